@@ -1,0 +1,59 @@
+#pragma once
+// Everything one sampled world produces: recorded motion, contact events, rest times and
+// checkpoints. Positions and orientations are of the object's origin (what Blender keys);
+// checkpoints hold the simulator's centre-of-mass state so a world can be restarted exactly.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common/Math.h"
+
+namespace mwb {
+
+/// A significant impact on one body (the same threshold as perturbation).
+struct ContactEvent {
+    double time_s = 0;
+    int32_t body = -1;     ///< scene body index of the body whose velocity jumped
+    int32_t other = -1;    ///< body it touched in that step (deepest contact), -1 if none found
+    double impulse_ns = 0; ///< mass * |delta v| beyond gravity, N·s
+};
+
+/// Centre-of-mass state of one body, in the world frame.
+struct BodyState {
+    Vec3 position_m{0, 0, 0};
+    Quat orientation{1, 0, 0, 0};
+    Vec3 linear_velocity{0, 0, 0};
+    Vec3 angular_velocity{0, 0, 0};
+};
+
+/// Full simulator state at the start of step `step_index` (time = step_index / step_hz).
+struct Checkpoint {
+    uint64_t step_index = 0;
+    std::vector<BodyState> bodies;         ///< one per scene body
+    std::vector<uint8_t> joint_broken;     ///< one per scene constraint
+    uint64_t ode_random_state = 0;         ///< ODE's constraint-ordering generator
+    std::array<uint64_t, 4> perturbation_random_state{};
+    std::vector<double> body_rest_since_s; ///< per body, -1 when moving
+};
+
+enum class WorldStatus { Ok, Rejected, Cancelled };
+
+struct WorldResult {
+    uint64_t world_index = 0;  ///< position in the run's seed range
+    uint64_t seed = 0;         ///< derived from (base seed, world index)
+    WorldStatus status = WorldStatus::Ok;
+    std::string reject_reason;
+    double record_hz = 120.0;
+    double step_hz = 240.0;
+    uint32_t frame_count = 0;              ///< recorded frames, frame i at time i / record_hz
+    uint32_t body_count = 0;
+    std::vector<double> positions_m;       ///< (body_count, frame_count, 3) object origins
+    std::vector<double> orientations;      ///< (body_count, frame_count, 4) w, x, y, z
+    std::vector<ContactEvent> contacts;    ///< time-ordered
+    std::vector<double> rest_time_s;       ///< per body: start of its final rest, or end time
+    std::vector<Checkpoint> checkpoints;   ///< time-ordered, first at t = 0
+    uint32_t impacts_perturbed = 0;
+    double simulated_time_s = 0;
+};
+
+}  // namespace mwb
