@@ -1,0 +1,97 @@
+#include "EngineOptions.h"
+
+#include <cmath>
+#include <cstdlib>
+
+namespace mwb {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double parse_number(const std::string& flag, const std::string& text) {
+    char* end = nullptr;
+    const double value = std::strtod(text.c_str(), &end);
+    if (text.empty() || *end != '\0' || !std::isfinite(value)) throw UsageError(flag + ": '" + text + "' is not a number");
+    return value;
+}
+
+uint64_t parse_count(const std::string& flag, const std::string& text) {
+    char* end = nullptr;
+    if (text.empty() || text[0] == '-') throw UsageError(flag + ": '" + text + "' is not a non-negative integer");
+    const unsigned long long value = std::strtoull(text.c_str(), &end, 10);
+    if (*end != '\0') throw UsageError(flag + ": '" + text + "' is not a non-negative integer");
+    return value;
+}
+
+// "A:B" is worlds A .. B-1.
+void parse_world_range(const std::string& text, EngineOptions& options) {
+    const size_t colon = text.find(':');
+    if (colon == std::string::npos) throw UsageError("--worlds: expected A:B (worlds A to B-1), got '" + text + "'");
+    const uint64_t first = parse_count("--worlds", text.substr(0, colon));
+    const uint64_t end = parse_count("--worlds", text.substr(colon + 1));
+    if (end <= first) throw UsageError("--worlds: empty range '" + text + "' (B must be greater than A)");
+    options.first_world = first;
+    options.world_count = end - first;
+}
+
+}  // namespace
+
+const char* engine_usage() {
+    return "usage:\n"
+           "  mwb-engine sample --scene SCENE.json --out LIB.mwb [--seed S] [--worlds A:B | --count N]\n"
+           "                    [--threads T] [--duration SECONDS] [--alpha A] [--no-perturb] [--no-stop-at-rest]\n"
+           "                    [--position-error METRES] [--rotation-error DEGREES] [--progress]\n"
+           "  mwb-engine info LIB.mwb [--json]\n"
+           "  mwb-engine merge OUT.mwb LIB.mwb...\n"
+           "  mwb-engine validate SCENE.json\n";
+}
+
+EngineOptions parse_engine_options(const std::vector<std::string>& args) {
+    if (args.empty()) throw UsageError("no command given (sample, info, merge or validate)");
+    EngineOptions options;
+    options.command = args[0];
+    std::vector<std::string> positional;
+    for (size_t i = 1; i < args.size(); ++i) {
+        const std::string& flag = args[i];
+        auto value = [&]() -> const std::string& {
+            if (i + 1 >= args.size()) throw UsageError(flag + " needs a value");
+            return args[++i];
+        };
+        if (flag == "--scene") options.scene_path = value();
+        else if (flag == "--out") options.output_path = value();
+        else if (flag == "--seed") options.base_seed = parse_count(flag, value());
+        else if (flag == "--worlds") parse_world_range(value(), options);
+        else if (flag == "--count") options.world_count = parse_count(flag, value());
+        else if (flag == "--threads") options.threads = static_cast<int>(parse_count(flag, value()));
+        else if (flag == "--duration") options.parameters.duration_s = parse_number(flag, value());
+        else if (flag == "--alpha") options.parameters.alpha_linear = options.parameters.alpha_angular = parse_number(flag, value());
+        else if (flag == "--no-perturb") options.parameters.perturb = false;
+        else if (flag == "--no-stop-at-rest") options.parameters.stop_at_rest = false;
+        else if (flag == "--position-error") options.bounds.position_error_max_m = parse_number(flag, value());
+        else if (flag == "--rotation-error") options.bounds.rotation_error_max_rad = parse_number(flag, value()) * kPi / 180;
+        else if (flag == "--progress") options.progress = true;
+        else if (flag == "--json") options.json = true;
+        else if (flag.rfind("--", 0) == 0) throw UsageError("unknown option " + flag);
+        else positional.push_back(flag);
+    }
+    if (options.command == "sample") {
+        if (options.scene_path.empty() || options.output_path.empty()) throw UsageError("sample needs --scene and --out");
+        if (options.world_count == 0) throw UsageError("--count must be at least 1");
+        if (!(options.bounds.position_error_max_m > 0) || !(options.bounds.rotation_error_max_rad > 0))
+            throw UsageError("codec error bounds must be positive");
+    } else if (options.command == "info" || options.command == "validate") {
+        if (positional.size() != 1) throw UsageError(options.command + " takes exactly one file");
+        options.inputs = positional;
+    } else if (options.command == "merge") {
+        if (positional.size() < 2) throw UsageError("merge needs OUT and at least one input library");
+        options.output_path = positional[0];
+        options.inputs.assign(positional.begin() + 1, positional.end());
+    } else {
+        throw UsageError("unknown command '" + options.command + "' (sample, info, merge or validate)");
+    }
+    if (options.command != "sample" && options.command != "merge" && !options.output_path.empty())
+        throw UsageError("--out is only for sample");
+    return options;
+}
+
+}  // namespace mwb

@@ -1,1 +1,137 @@
-int main() { return 0; }
+// mwb-engine: samples worlds into a library file, and inspects and merges libraries. Blender's
+// add-on runs it as a child process; farm tasks run it (through Blender's CLI) per seed chunk.
+#include <csignal>
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "EngineOptions.h"
+#include "library/ByteIO.h"
+#include "library/LibraryReader.h"
+#include "library/LibraryWriter.h"
+#include "sampler/Sampler.h"
+#include "scene/SceneJson.h"
+
+namespace mwb {
+namespace {
+
+SamplingProgress g_progress;
+
+void request_cancel(int) { g_progress.cancel.store(true); }
+
+int run_sample(const EngineOptions& options) {
+    Scene scene = load_scene_file(options.scene_path);
+    RunHeader header{scene_to_json(scene), options.parameters, options.bounds, options.base_seed};
+    CompiledScene compiled(std::move(scene), options.parameters);
+    LibraryWriter writer(options.output_path, header);
+    for (const std::string& repair : writer.repairs()) std::cerr << "mwb-engine: " << repair << "\n";
+    // Worlds already in the file are kept, so an interrupted run resumes where it stopped.
+    const std::set<uint64_t> present(writer.existing_world_indices().begin(), writer.existing_world_indices().end());
+    std::vector<uint64_t> todo;
+    for (uint64_t k = 0; k < options.world_count; ++k)
+        if (!present.count(options.first_world + k)) todo.push_back(options.first_world + k);
+    std::signal(SIGINT, request_cancel);
+    std::signal(SIGTERM, request_cancel);
+    uint64_t stored = 0;
+    const SamplingStatistics stats = sample_world_list(
+        compiled, options.base_seed, todo, options.threads,
+        [&](WorldResult&& world) {
+            writer.append(world);
+            if (world.status != WorldStatus::Cancelled) ++stored;
+            if (options.progress) {
+                std::cerr << "MWB-PROGRESS " << stored << " " << todo.size() << " world " << world.world_index << "\n";
+                std::cerr.flush();
+            }
+        },
+        &g_progress);
+    std::cout << "sampled " << stats.worlds_ok << " worlds, rejected " << stats.worlds_rejected << ", skipped "
+              << present.size() << " already stored" << (g_progress.cancel ? ", cancelled" : "") << " in "
+              << stats.wall_time_s << " s -> " << options.output_path << "\n";
+    for (const auto& [reason, count] : stats.reject_reasons) std::cout << "  rejected " << count << ": " << reason << "\n";
+    return g_progress.cancel ? 130 : 0;
+}
+
+int run_info(const EngineOptions& options) {
+    const LibraryReader reader(options.inputs[0]);
+    const Scene scene = scene_from_json(reader.header().scene_json);
+    uint64_t motion_bytes = 0, body_frames = 0;
+    for (const StoredWorld& w : reader.worlds()) {
+        for (const StoredTrack& t : w.tracks) motion_bytes += t.position.size() + t.rotation.size();
+        body_frames += uint64_t{w.frame_count} * w.tracks.size();
+    }
+    std::map<std::string, uint64_t> reasons;
+    for (const StoredRejection& r : reader.rejections()) ++reasons[r.reason];
+    nlohmann::json j{{"path", reader.path()},
+                     {"worlds", reader.worlds().size()},
+                     {"rejected", reader.rejections().size()},
+                     {"rejected_reasons", reasons},
+                     {"bodies", scene.bodies.size()},
+                     {"file_bytes", reader.file_size()},
+                     {"motion_bytes", motion_bytes},
+                     {"motion_bytes_per_body_frame", body_frames ? double(motion_bytes) / double(body_frames) : 0.0},
+                     {"scene_hash", scene_hash(reader.header())},
+                     {"run_hash", run_hash(reader.header())},
+                     {"base_seed", reader.header().base_seed},
+                     {"warnings", reader.warnings()}};
+    if (options.json) {
+        std::cout << j.dump(2) << "\n";
+        return 0;
+    }
+    std::cout << reader.path() << ": " << reader.worlds().size() << " worlds, " << reader.rejections().size()
+              << " rejected, " << scene.bodies.size() << " bodies, " << reader.file_size() << " bytes, "
+              << j["motion_bytes_per_body_frame"].get<double>() << " motion bytes per body-frame, scene "
+              << scene_hash(reader.header()) << "\n";
+    for (const auto& [reason, count] : reasons) std::cout << "  rejected " << count << ": " << reason << "\n";
+    for (const std::string& w : reader.warnings()) std::cout << "  warning: " << w << "\n";
+    return 0;
+}
+
+int run_merge(const EngineOptions& options) {
+    for (const std::string& warning : merge_libraries(options.inputs, options.output_path))
+        std::cerr << "mwb-engine: warning: " << warning << "\n";
+    const LibraryReader merged(options.output_path);
+    std::cout << "merged " << options.inputs.size() << " libraries: " << merged.worlds().size() << " worlds -> "
+              << options.output_path << "\n";
+    return 0;
+}
+
+int run_validate(const EngineOptions& options) {
+    const Scene scene = load_scene_file(options.inputs[0]);
+    std::cout << options.inputs[0] << ": valid scene '" << scene.name << "', " << scene.bodies.size() << " bodies, "
+              << scene.constraints.size() << " constraints\n";
+    return 0;
+}
+
+int run(const std::vector<std::string>& args) {
+    const EngineOptions options = parse_engine_options(args);
+    if (options.command == "sample") return run_sample(options);
+    if (options.command == "info") return run_info(options);
+    if (options.command == "merge") return run_merge(options);
+    return run_validate(options);
+}
+
+}  // namespace
+}  // namespace mwb
+
+int main(int argc, char** argv) {
+    const std::vector<std::string> args(argv + 1, argv + argc);
+    try {
+        return mwb::run(args);
+    } catch (const mwb::UsageError& error) {
+        std::cerr << "mwb-engine: " << error.what() << "\n" << mwb::engine_usage();
+        return 2;
+    } catch (const mwb::SceneError& error) {
+        std::cerr << "mwb-engine: invalid scene:\n" << error.what() << "\n";
+        return 3;
+    } catch (const mwb::LibraryError& error) {
+        std::cerr << "mwb-engine: " << error.what() << "\n";
+        return 4;
+    } catch (const std::exception& error) {
+        std::cerr << "mwb-engine: " << error.what() << "\n";
+        return 1;
+    }
+}

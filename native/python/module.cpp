@@ -1,0 +1,17 @@
+// The Python face of the engine: a thin layer over the C++ core. Heavy calls release the GIL.
+#include <pybind11/pybind11.h>
+
+namespace py = pybind11;
+
+namespace mwb::python {
+void bind_scene(py::module_& m);
+void bind_sampler(py::module_& m);
+void bind_library(py::module_& m);
+}  // namespace mwb::python
+
+PYBIND11_MODULE(_native, m) {
+    m.doc() = "Many-Worlds Browser native engine: scenes, plausible-world sampling, recorded motion.";
+    mwb::python::bind_scene(m);
+    mwb::python::bind_sampler(m);
+    mwb::python::bind_library(m);
+}

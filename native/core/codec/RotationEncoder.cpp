@@ -1,0 +1,245 @@
+#include "codec/RotationEncoder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+
+#include "codec/BitWriter.h"
+#include "codec/CodecFormat.h"
+#include "codec/RiceCode.h"
+#include "codec/RotationMath.h"
+#include "codec/SegmentFitting.h"
+
+namespace mwb {
+namespace {
+
+// A step of at most a quarter of the bound leaves most of the error budget to the fit itself.
+constexpr double kStepFraction = 0.5;
+// The encoder aims slightly under the bound so that a build that rounds the reconstruction
+// formula differently (e.g. with fused multiply-add) still decodes within it.
+constexpr double kToleranceFraction = 1.0 - 1e-9;
+constexpr double kMinInputNorm = 1e-6;
+constexpr double kTwoPi = 6.283185307179586476925;
+
+struct RotationInput {
+    std::vector<Quat> frames;        // normalized input
+    std::vector<Vec3> increment_sum;  // [i]: sum of log(Q_j * Q_{j-1}^-1) for j = 1..i
+    double step_rad;
+    double tolerance_rad;
+};
+
+struct StartKey {
+    bool raw = false;
+    SegmentSteps steps{};
+    Quat rotation{};  // as decoded
+};
+
+struct SegmentFit {
+    uint32_t length = 0;
+    bool raw = false;
+    SegmentSteps steps{};
+    Quat end{};  // decoded orientation at the last frame
+    double end_error_rad = 0;
+};
+
+// The rotation vector equivalent to `rotation_vector` (same axis, angle changed by a multiple of
+// 2 pi) closest to `reference`: recovers turns of more than pi that the log map folds away.
+Vec3 unwrap(const Vec3& rotation_vector, const Vec3& reference) {
+    const double angle = norm(rotation_vector);
+    const double reference_length = norm(reference);
+    if (angle == 0 && reference_length == 0) return rotation_vector;
+    const Vec3 axis = angle > 0 ? scale(rotation_vector, 1 / angle)
+                                : scale(reference, 1 / reference_length);
+    const double turns = std::round((dot(reference, axis) - angle) / kTwoPi);
+    return scale(axis, angle + kTwoPi * turns);
+}
+
+Vec3 relative_log(const Quat& to, const Quat& from) {
+    return quat_log(quat_multiply(to, quat_conjugate(from)));
+}
+
+std::optional<SegmentFit> check_candidate(const RotationInput& input, uint32_t start_frame,
+                                          const Quat& start, uint32_t length,
+                                          const SegmentSteps& steps) {
+    SegmentFit fit{length, false, steps, {}, 0};
+    for (uint32_t j = 1; j <= length; ++j) {
+        const Quat decoded = rotation_on_segment(start, steps, input.step_rad, length, j);
+        const double error = rotation_angle_between(decoded, input.frames[start_frame + j]);
+        if (!(error <= input.tolerance_rad)) return std::nullopt;
+        fit.end = decoded;
+        fit.end_error_rad = error;
+    }
+    return fit;
+}
+
+// Fits a segment of exactly `length` frames: the rotation vector from least squares on the
+// unwrapped log of each frame relative to the start, from interpolating the last frame, and
+// halfway between; each is quantized and checked. Of those within the bound, keeps the one
+// ending closest to the input, which helps the next segment.
+std::optional<SegmentFit> fit_length(const RotationInput& input, uint32_t start_frame,
+                                     const Quat& start, uint32_t length) {
+    const Vec3 first = relative_log(input.frames[start_frame + 1], start);
+    Vec3 weighted{0, 0, 0};
+    double weight = 0;
+    Vec3 relative{};
+    for (uint32_t j = 1; j <= length; ++j) {
+        // Summed per-frame increments tell how many whole turns the log map folded away.
+        const Vec3 reference = add(first, sub(input.increment_sum[start_frame + j],
+                                              input.increment_sum[start_frame + 1]));
+        relative = unwrap(relative_log(input.frames[start_frame + j], start), reference);
+        weighted = add(weighted, scale(relative, double(j)));
+        weight += double(j) * j;
+    }
+    const Vec3 least_squares = scale(weighted, double(length) / weight);
+    const Vec3 candidates[] = {least_squares, relative,
+                               scale(add(least_squares, relative), 0.5)};
+    std::optional<SegmentFit> best;
+    std::optional<SegmentSteps> tried[3];
+    for (int c = 0; c < 3; ++c) {
+        tried[c] = quantize(candidates[c], input.step_rad, kMaxSegmentSteps);
+        if (!tried[c] || std::find(tried, tried + c, tried[c]) != tried + c) continue;
+        auto fit = check_candidate(input, start_frame, start, length, *tried[c]);
+        if (fit && (!best || fit->end_error_rad < best->end_error_rad)) best = fit;
+    }
+    return best;
+}
+
+SegmentFit next_segment(const RotationInput& input, uint32_t start_frame, const Quat& start) {
+    const auto frame_count = static_cast<uint32_t>(input.frames.size());
+    const uint32_t max_length = std::min(frame_count - 1 - start_frame, kMaxSegmentFrames);
+    auto best = longest_greedy_fit(max_length, [&](uint32_t length) {
+        return fit_length(input, start_frame, start, length);
+    });
+    if (best) return *best;
+    // Only reachable when the step is too fine for a single frame's turn: store it exactly.
+    SegmentFit raw;
+    raw.length = 1;
+    raw.raw = true;
+    // Keep the sign continuous with the decoded track, as fit segments do.
+    const Quat& q = input.frames[start_frame + 1];
+    const double same_sign = start[0] * q[0] + start[1] * q[1] + start[2] * q[2] + start[3] * q[3];
+    raw.end = same_sign < 0 ? Quat{-q[0], -q[1], -q[2], -q[3]} : q;
+    return raw;
+}
+
+StartKey make_start_key(const RotationInput& input) {
+    const Quat& first = input.frames[0];
+    StartKey key;
+    if (auto steps = quantize(quat_log(first), input.step_rad, kMaxStartSteps)) {
+        key.steps = *steps;
+        key.rotation = rotation_from_steps(*steps, input.step_rad);
+        if (rotation_angle_between(key.rotation, first) <= input.tolerance_rad) return key;
+    }
+    key.raw = true;
+    key.rotation = first;
+    return key;
+}
+
+std::vector<SegmentFit> plan_segments(const RotationInput& input, const Quat& start) {
+    std::vector<SegmentFit> segments;
+    Quat rotation = start;
+    for (uint32_t frame = 0; frame + 1 < input.frames.size();) {
+        segments.push_back(next_segment(input, frame, rotation));
+        frame += segments.back().length;
+        rotation = segments.back().end;
+    }
+    return segments;
+}
+
+int step_exponent_for(double error_max_rad) {
+    if (!std::isfinite(error_max_rad) || error_max_rad <= 0) {
+        throw std::invalid_argument(
+            "encode_rotation_track: error_max_rad must be positive and finite");
+    }
+    int exponent = 0;
+    // frexp gives error_max * fraction = m * 2^exponent with m in [0.5, 1).
+    std::frexp(error_max_rad * kStepFraction, &exponent);
+    --exponent;
+    if (exponent < kMinStepExponent || exponent > kMaxStepExponent) {
+        throw std::invalid_argument("encode_rotation_track: error_max_rad out of range");
+    }
+    return exponent;
+}
+
+RotationInput make_input(const double* wxyz, uint32_t frame_count, double error_max_rad,
+                         int exponent) {
+    if (frame_count > 0 && wxyz == nullptr) {
+        throw std::invalid_argument("encode_rotation_track: null orientations");
+    }
+    RotationInput input{{}, {}, std::ldexp(1.0, exponent), error_max_rad * kToleranceFraction};
+    input.frames.reserve(frame_count);
+    input.increment_sum.reserve(frame_count);
+    for (uint32_t i = 0; i < frame_count; ++i) {
+        const Quat q{wxyz[4 * size_t{i}], wxyz[4 * size_t{i} + 1], wxyz[4 * size_t{i} + 2],
+                     wxyz[4 * size_t{i} + 3]};
+        const double length = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+        if (!std::isfinite(length) || length < kMinInputNorm) {
+            throw std::invalid_argument("encode_rotation_track: quaternion not finite or zero");
+        }
+        input.frames.push_back(quat_normalized(q));
+        input.increment_sum.push_back(
+            i == 0 ? Vec3{0, 0, 0}
+                   : add(input.increment_sum.back(),
+                         relative_log(input.frames[i], input.frames[i - 1])));
+    }
+    return input;
+}
+
+void write_start_key(BitWriter& writer, const StartKey& key) {
+    writer.write_bit(key.raw);
+    if (key.raw) {
+        for (double value : key.rotation) writer.write_double(value);
+        return;
+    }
+    for (int64_t steps : key.steps) write_sized_uint(writer, zigzag_encode(steps));
+}
+
+void write_segments(BitWriter& writer, const std::vector<SegmentFit>& segments,
+                    uint32_t frame_count) {
+    AdaptiveRice lengths(kLengthRiceInitialK);
+    AdaptiveRice residuals[3] = {AdaptiveRice(kResidualRiceInitialK),
+                                 AdaptiveRice(kResidualRiceInitialK),
+                                 AdaptiveRice(kResidualRiceInitialK)};
+    SegmentSteps previous{};
+    uint32_t previous_length = 1;
+    uint32_t frame = 0;
+    for (const SegmentFit& segment : segments) {
+        frame += segment.length;
+        writer.write_bit(segment.raw);
+        if (segment.raw) {
+            for (double value : segment.end) writer.write_double(value);
+            previous = {};
+            previous_length = 1;
+            continue;
+        }
+        const bool last = frame + 1 == frame_count;
+        writer.write_bit(last);
+        if (!last) lengths.write_unsigned(writer, segment.length - 1);
+        const SegmentSteps predicted =
+            predict_segment_steps(previous, previous_length, segment.length);
+        for (int k = 0; k < 3; ++k) residuals[k].write_signed(writer, segment.steps[k] - predicted[k]);
+        previous = segment.steps;
+        previous_length = segment.length;
+    }
+}
+
+}  // namespace
+
+std::vector<uint8_t> encode_rotation_track(const double* wxyz, uint32_t frame_count,
+                                           double error_max_rad) {
+    const int exponent = step_exponent_for(error_max_rad);
+    const RotationInput input = make_input(wxyz, frame_count, error_max_rad, exponent);
+
+    BitWriter writer;
+    writer.write_bits(kRotationTrackFormatV1, 8);
+    write_sized_uint(writer, frame_count);
+    writer.write_bits(static_cast<uint64_t>(exponent + kStepExponentBias), 8);
+    if (frame_count == 0) return writer.take_bytes();
+    const StartKey start = make_start_key(input);
+    write_start_key(writer, start);
+    write_segments(writer, plan_segments(input, start.rotation), frame_count);
+    return writer.take_bytes();
+}
+
+}  // namespace mwb

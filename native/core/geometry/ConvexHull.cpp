@@ -1,0 +1,330 @@
+#include "geometry/ConvexHull.h"
+
+#include <algorithm>
+#include <string>
+#include <unordered_map>
+#include <utility>
+
+namespace mwb {
+namespace {
+
+// Distances within this fraction of the cloud's half-diagonal count as zero (coplanar, duplicate
+// or interior): far above double rounding, far below any modelling detail.
+constexpr double kRelativeTolerance = 1e-9;
+
+struct Triangle {
+    std::array<uint32_t, 3> v;
+    Vec3 normal;
+    double offset;                  // normal·x = offset
+    std::vector<uint32_t> outside;  // points above this face by more than the tolerance
+    bool alive = true;
+};
+
+uint64_t edge_key(uint32_t from, uint32_t to) { return (static_cast<uint64_t>(from) << 32) | to; }
+
+std::vector<Vec3> read_points(const std::vector<double>& xyz) {
+    if (xyz.size() % 3 != 0)
+        throw GeometryError("convex hull: " + std::to_string(xyz.size()) +
+                            " coordinates is not a multiple of 3");
+    std::vector<Vec3> points(xyz.size() / 3);
+    for (size_t i = 0; i < points.size(); ++i) {
+        points[i] = {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]};
+        if (!std::isfinite(points[i][0]) || !std::isfinite(points[i][1]) || !std::isfinite(points[i][2]))
+            throw GeometryError("convex hull: point " + std::to_string(i) + " is not finite");
+    }
+    if (points.size() < 4)
+        throw GeometryError("convex hull needs at least 4 points, got " + std::to_string(points.size()));
+    return points;
+}
+
+Vec3 bounds_center(const std::vector<Vec3>& points, double& half_diagonal) {
+    Vec3 lo = points[0], hi = points[0];
+    for (const Vec3& p : points) {
+        for (int k = 0; k < 3; ++k) {
+            lo[k] = std::min(lo[k], p[k]);
+            hi[k] = std::max(hi[k], p[k]);
+        }
+    }
+    half_diagonal = norm(sub(hi, lo)) / 2;
+    return scale(add(lo, hi), 0.5);
+}
+
+// Newell's normal of a closed polygon: robust for many vertices and nearly collinear runs.
+Vec3 newell_normal(const std::vector<Vec3>& points, const std::vector<uint32_t>& loop) {
+    Vec3 n{0, 0, 0};
+    for (size_t i = 0; i < loop.size(); ++i) {
+        const Vec3& a = points[loop[i]];
+        const Vec3& b = points[loop[(i + 1) % loop.size()]];
+        n = add(n, {(a[1] - b[1]) * (a[2] + b[2]), (a[2] - b[2]) * (a[0] + b[0]), (a[0] - b[0]) * (a[1] + b[1])});
+    }
+    return n;
+}
+
+// Incremental quickhull over points centred on their bounding box (so precision follows the
+// extent, not the distance from the origin), followed by merging coplanar triangles.
+class HullBuilder {
+public:
+    HullBuilder(std::vector<Vec3> points, double tolerance) : points_(std::move(points)), tol_(tolerance) {}
+
+    void build() {
+        add_initial_tetrahedron();
+        while (!pending_.empty()) {
+            const uint32_t face = pending_.back();
+            pending_.pop_back();
+            if (faces_[face].alive && !faces_[face].outside.empty()) add_farthest_point_of(face);
+        }
+    }
+
+    /// Coplanar triangles merged into convex polygons, as loops of point indices.
+    std::vector<std::vector<uint32_t>> polygons() const;
+
+    const std::vector<Vec3>& points() const { return points_; }
+
+private:
+    double distance(uint32_t face, uint32_t point) const {
+        return dot(faces_[face].normal, points_[point]) - faces_[face].offset;
+    }
+
+    uint32_t find_face(uint32_t from, uint32_t to) const {
+        auto it = edges_.find(edge_key(from, to));
+        if (it == edges_.end()) throw GeometryError("convex hull: numerical breakdown (open edge)");
+        return it->second;
+    }
+
+    uint32_t add_face(uint32_t a, uint32_t b, uint32_t c) {
+        Triangle t;
+        t.v = {a, b, c};
+        const Vec3 n = cross(sub(points_[b], points_[a]), sub(points_[c], points_[a]));
+        t.normal = scale(n, 1.0 / norm(n));
+        t.offset = (dot(t.normal, points_[a]) + dot(t.normal, points_[b]) + dot(t.normal, points_[c])) / 3;
+        const auto index = static_cast<uint32_t>(faces_.size());
+        for (int k = 0; k < 3; ++k) {
+            // A directed edge already in use means the surface folded over: give up cleanly.
+            if (!edges_.emplace(edge_key(t.v[k], t.v[(k + 1) % 3]), index).second)
+                throw GeometryError("convex hull: numerical breakdown (repeated edge)");
+        }
+        faces_.push_back(std::move(t));
+        return index;
+    }
+
+    void remove_face(uint32_t face) {
+        Triangle& t = faces_[face];
+        for (int k = 0; k < 3; ++k) edges_.erase(edge_key(t.v[k], t.v[(k + 1) % 3]));
+        t.alive = false;
+    }
+
+    // Gives `point` to the first of `candidates` it lies above; points above none are inside.
+    void assign(uint32_t point, const std::vector<uint32_t>& candidates) {
+        for (uint32_t face : candidates) {
+            if (distance(face, point) > tol_) {
+                if (faces_[face].outside.empty()) pending_.push_back(face);
+                faces_[face].outside.push_back(point);
+                return;
+            }
+        }
+    }
+
+    void add_initial_tetrahedron();
+    void add_farthest_point_of(uint32_t face);
+    std::vector<uint32_t> visible_faces(uint32_t seed, uint32_t eye);
+
+    std::vector<Vec3> points_;
+    double tol_;
+    std::vector<Triangle> faces_;
+    std::unordered_map<uint64_t, uint32_t> edges_;  // directed edge -> face that owns it
+    std::vector<uint32_t> pending_;                // faces that may have outside points
+};
+
+void HullBuilder::add_initial_tetrahedron() {
+    const uint32_t n = static_cast<uint32_t>(points_.size());
+    // The two farthest apart among the axis-extreme points span the first edge.
+    std::array<uint32_t, 6> extremes{};
+    for (uint32_t i = 0; i < n; ++i) {
+        for (int k = 0; k < 3; ++k) {
+            if (points_[i][k] < points_[extremes[2 * k]][k]) extremes[2 * k] = i;
+            if (points_[i][k] > points_[extremes[2 * k + 1]][k]) extremes[2 * k + 1] = i;
+        }
+    }
+    uint32_t a = extremes[0], b = extremes[1];
+    for (uint32_t i : extremes)
+        for (uint32_t j : extremes)
+            if (norm(sub(points_[i], points_[j])) > norm(sub(points_[a], points_[b]))) a = i, b = j;
+    if (norm(sub(points_[a], points_[b])) <= tol_) throw GeometryError("convex hull: all points coincide");
+
+    const Vec3 ab = sub(points_[b], points_[a]);
+    uint32_t c = a;
+    double best = 0;
+    for (uint32_t i = 0; i < n; ++i) {
+        const double d = norm(cross(sub(points_[i], points_[a]), ab)) / norm(ab);
+        if (d > best) best = d, c = i;
+    }
+    if (best <= tol_) throw GeometryError("convex hull: all points are collinear");
+
+    const Vec3 normal = cross(ab, sub(points_[c], points_[a]));
+    const Vec3 unit = scale(normal, 1.0 / norm(normal));
+    uint32_t d = a;
+    best = 0;
+    for (uint32_t i = 0; i < n; ++i) {
+        const double dist = std::fabs(dot(unit, sub(points_[i], points_[a])));
+        if (dist > best) best = dist, d = i;
+    }
+    if (best <= tol_) throw GeometryError("convex hull: all points are coplanar");
+
+    // Wind (a, b, c) so that d lies behind it; the other three faces follow from that.
+    if (dot(normal, sub(points_[d], points_[a])) > 0) std::swap(b, c);
+    const std::vector<uint32_t> first{add_face(a, b, c), add_face(a, d, b), add_face(b, d, c), add_face(c, d, a)};
+    for (uint32_t i = 0; i < n; ++i)
+        if (i != a && i != b && i != c && i != d) assign(i, first);
+}
+
+std::vector<uint32_t> HullBuilder::visible_faces(uint32_t seed, uint32_t eye) {
+    // Grow from the seed across edges so the visible region stays connected.
+    std::vector<uint32_t> visible{seed};
+    std::vector<uint32_t> stack{seed};
+    std::vector<bool> seen(faces_.size(), false);
+    seen[seed] = true;
+    while (!stack.empty()) {
+        const Triangle& t = faces_[stack.back()];
+        stack.pop_back();
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t next = find_face(t.v[(k + 1) % 3], t.v[k]);
+            if (seen[next]) continue;
+            seen[next] = true;
+            if (distance(next, eye) > tol_) {
+                visible.push_back(next);
+                stack.push_back(next);
+            }
+        }
+    }
+    return visible;
+}
+
+void HullBuilder::add_farthest_point_of(uint32_t face) {
+    const std::vector<uint32_t>& candidates = faces_[face].outside;
+    const uint32_t eye = *std::max_element(candidates.begin(), candidates.end(),
+                                           [&](uint32_t p, uint32_t q) { return distance(face, p) < distance(face, q); });
+    const std::vector<uint32_t> visible = visible_faces(face, eye);
+
+    std::vector<bool> is_visible(faces_.size(), false);
+    for (uint32_t f : visible) is_visible[f] = true;
+    std::vector<std::pair<uint32_t, uint32_t>> horizon;
+    std::vector<uint32_t> orphans;
+    for (uint32_t f : visible) {
+        const Triangle& t = faces_[f];
+        for (int k = 0; k < 3; ++k)
+            if (!is_visible[find_face(t.v[(k + 1) % 3], t.v[k])]) horizon.emplace_back(t.v[k], t.v[(k + 1) % 3]);
+        for (uint32_t p : t.outside)
+            if (p != eye) orphans.push_back(p);
+    }
+    for (uint32_t f : visible) {
+        remove_face(f);
+        faces_[f].outside.clear();
+        faces_[f].outside.shrink_to_fit();
+    }
+    std::vector<uint32_t> cone;
+    for (const auto& [from, to] : horizon) cone.push_back(add_face(from, to, eye));
+    for (uint32_t p : orphans) assign(p, cone);
+}
+
+std::vector<std::vector<uint32_t>> HullBuilder::polygons() const {
+    constexpr int kNone = -1;
+    std::vector<int> group(faces_.size(), kNone);
+    std::vector<std::vector<uint32_t>> result;
+    for (uint32_t seed = 0; seed < faces_.size(); ++seed) {
+        if (!faces_[seed].alive || group[seed] != kNone) continue;
+        const int id = static_cast<int>(seed);
+        const Triangle& plane = faces_[seed];
+        // Region growing against the seed's plane, so long gentle curvature never chains together.
+        std::vector<uint32_t> members{seed};
+        group[seed] = id;
+        for (size_t m = 0; m < members.size(); ++m) {
+            const Triangle& t = faces_[members[m]];
+            for (int k = 0; k < 3; ++k) {
+                const uint32_t next = find_face(t.v[(k + 1) % 3], t.v[k]);
+                if (group[next] != kNone || dot(faces_[next].normal, plane.normal) <= 0) continue;
+                bool coplanar = true;
+                for (uint32_t v : faces_[next].v)
+                    coplanar = coplanar && std::fabs(dot(plane.normal, points_[v]) - plane.offset) <= tol_;
+                if (!coplanar) continue;
+                group[next] = id;
+                members.push_back(next);
+            }
+        }
+        // The boundary of the group, walked along its CCW directed edges.
+        std::unordered_map<uint32_t, uint32_t> next_vertex;
+        bool simple = true;
+        for (uint32_t f : members) {
+            const Triangle& t = faces_[f];
+            for (int k = 0; k < 3; ++k) {
+                const uint32_t from = t.v[k], to = t.v[(k + 1) % 3];
+                if (group[find_face(to, from)] != id) simple = next_vertex.emplace(from, to).second && simple;
+            }
+        }
+        std::vector<uint32_t> loop;
+        if (simple && !next_vertex.empty()) loop.push_back(next_vertex.begin()->first);
+        while (!loop.empty() && loop.size() <= next_vertex.size()) {
+            auto to = next_vertex.find(loop.back());
+            if (to == next_vertex.end() || to->second == loop.front()) break;
+            loop.push_back(to->second);
+        }
+        const bool closed = !loop.empty() && next_vertex.count(loop.back()) &&
+                            next_vertex.at(loop.back()) == loop.front();
+        if (simple && closed && loop.size() == next_vertex.size()) {
+            result.push_back(std::move(loop));
+        } else {
+            // Not a disk (numerical trouble): keep its triangles rather than a wrong polygon.
+            for (uint32_t f : members) result.push_back({faces_[f].v.begin(), faces_[f].v.end()});
+        }
+    }
+    return result;
+}
+
+// Drops vertices lying on the straight edge between their neighbours.
+void drop_collinear(const std::vector<Vec3>& points, std::vector<uint32_t>& loop, double tol) {
+    for (size_t i = 0; i < loop.size() && loop.size() > 3;) {
+        const Vec3& prev = points[loop[(i + loop.size() - 1) % loop.size()]];
+        const Vec3& here = points[loop[i]];
+        const Vec3& next = points[loop[(i + 1) % loop.size()]];
+        const Vec3 chord = sub(next, prev);
+        const double length = norm(chord);
+        if (length > 0 && norm(cross(sub(here, prev), chord)) / length <= tol) {
+            loop.erase(loop.begin() + static_cast<std::ptrdiff_t>(i));
+        } else {
+            ++i;
+        }
+    }
+}
+
+}  // namespace
+
+ConvexHull compute_convex_hull(const std::vector<double>& xyz) {
+    const std::vector<Vec3> input = read_points(xyz);
+    double half_diagonal = 0;
+    const Vec3 center = bounds_center(input, half_diagonal);
+    std::vector<Vec3> centred(input.size());
+    for (size_t i = 0; i < input.size(); ++i) centred[i] = sub(input[i], center);
+    const double tol = kRelativeTolerance * half_diagonal;
+
+    HullBuilder builder(std::move(centred), tol);
+    builder.build();
+
+    ConvexHull hull;
+    std::unordered_map<uint32_t, uint32_t> renumbered;
+    for (std::vector<uint32_t> loop : builder.polygons()) {
+        drop_collinear(builder.points(), loop, tol);
+        const Vec3 n = newell_normal(builder.points(), loop);
+        const Vec3 unit = scale(n, 1.0 / norm(n));
+        double offset = 0;
+        for (uint32_t& v : loop) {
+            offset += dot(unit, input[v]);
+            auto [it, inserted] = renumbered.emplace(v, static_cast<uint32_t>(hull.points.size()));
+            if (inserted) hull.points.push_back(input[v]);
+            v = it->second;
+        }
+        hull.planes.push_back({unit[0], unit[1], unit[2], offset / static_cast<double>(loop.size())});
+        hull.faces.push_back(std::move(loop));
+    }
+    return hull;
+}
+
+}  // namespace mwb

@@ -19,8 +19,11 @@ struct GeometryError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
-/// Hull of `xyz` (flat, (n, 3)). Coplanar faces are merged into one polygon. Throws GeometryError
-/// when the points span no volume (fewer than 4 points, or all coplanar within a relative tolerance).
+/// Hull of `xyz` (flat, (n, 3), metres). Coplanar triangles are merged into one convex polygon and
+/// vertices lying on a polygon's straight edge are dropped, as are duplicates and interior points.
+/// Distances below 1e-9 of the cloud's half bounding-box diagonal count as zero. Output points are
+/// copies of input points (bit-exact). Throws GeometryError when the input is not finite, not a
+/// multiple of 3, or spans no volume (fewer than 4 points, all coincident, collinear or coplanar).
 ConvexHull compute_convex_hull(const std::vector<double>& xyz);
 
 }  // namespace mwb

@@ -1,0 +1,62 @@
+#include "sampler/Sampler.h"
+
+#include <omp.h>
+
+#include <chrono>
+#include <exception>
+#include <mutex>
+
+#include "sim/WorldBuilder.h"
+#include "sim/WorldSimulator.h"
+
+namespace mwb {
+
+SamplingStatistics sample_worlds(const CompiledScene& compiled, uint64_t base_seed, uint64_t first_world,
+                                 uint64_t world_count, int threads, const WorldSink& sink,
+                                 SamplingProgress* progress) {
+    std::vector<uint64_t> indices(world_count);
+    for (uint64_t k = 0; k < world_count; ++k) indices[k] = first_world + k;
+    return sample_world_list(compiled, base_seed, indices, threads, sink, progress);
+}
+
+SamplingStatistics sample_world_list(const CompiledScene& compiled, uint64_t base_seed,
+                                     const std::vector<uint64_t>& world_indices, int threads, const WorldSink& sink,
+                                     SamplingProgress* progress) {
+    const auto start = std::chrono::steady_clock::now();
+    initialize_ode_once();
+    SamplingStatistics stats;
+    std::mutex sink_mutex;
+    std::exception_ptr sink_error;
+    std::atomic<bool> stop_for_error{false};
+    const std::atomic<bool>* cancel = progress ? &progress->cancel : nullptr;
+    const int thread_count = threads > 0 ? threads : omp_get_max_threads();
+    const auto count = static_cast<long long>(world_indices.size());
+    // Dynamic scheduling: world lengths vary a lot (early rest, rejections).
+#pragma omp parallel for num_threads(thread_count) schedule(dynamic, 1)
+    for (long long k = 0; k < count; ++k) {
+        if ((cancel && cancel->load(std::memory_order_relaxed)) || stop_for_error.load()) continue;
+        WorldResult world = simulate_world(compiled, base_seed, world_indices[static_cast<size_t>(k)], cancel);
+        std::lock_guard<std::mutex> lock(sink_mutex);
+        switch (world.status) {
+            case WorldStatus::Ok: ++stats.worlds_ok; break;
+            case WorldStatus::Rejected:
+                ++stats.worlds_rejected;
+                ++stats.reject_reasons[world.reject_reason];
+                break;
+            case WorldStatus::Cancelled: ++stats.worlds_cancelled; break;
+        }
+        // An exception must not escape an OpenMP region; stop the run and rethrow after it.
+        try {
+            if (!sink_error) sink(std::move(world));
+        } catch (...) {
+            sink_error = std::current_exception();
+            stop_for_error = true;
+        }
+        if (progress) progress->worlds_done.fetch_add(1, std::memory_order_relaxed);
+    }
+    if (sink_error) std::rethrow_exception(sink_error);
+    stats.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return stats;
+}
+
+}  // namespace mwb

@@ -1,0 +1,238 @@
+#include "sim/WorldBuilder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <mutex>
+#include <string>
+
+namespace mwb {
+namespace {
+
+[[noreturn]] void throw_ode_error(int code, const char* message, va_list args) {
+    char text[512];
+    std::vsnprintf(text, sizeof text, message, args);
+    throw OdeError("ODE internal error " + std::to_string(code) + ": " + text);
+}
+
+void ignore_ode_message(int, const char*, va_list) {}
+
+void to_ode_quaternion(const Quat& q, dQuaternion out) {
+    for (int k = 0; k < 4; ++k) out[k] = q[k];
+}
+
+Vec3 from_ode(const dReal* v) { return {v[0], v[1], v[2]}; }
+
+}  // namespace
+
+void initialize_ode_once() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+        dInitODE2(0);
+        // ODE would abort() the whole process; a world that hits an internal error is rejected.
+        dSetErrorHandler(throw_ode_error);
+        dSetDebugHandler(throw_ode_error);
+        dSetMessageHandler(ignore_ode_message);
+    });
+}
+
+void prepare_ode_thread() {
+    thread_local bool prepared = false;
+    if (!prepared) {
+        initialize_ode_once();
+        dAllocateODEDataForThread(dAllocateMaskAll);
+        prepared = true;
+    }
+}
+
+std::vector<BodyInitialState> draw_initial_states(const Scene& scene, PortableRandom& random) {
+    std::vector<BodyInitialState> states;
+    states.reserve(scene.bodies.size());
+    for (const Body& body : scene.bodies) {
+        const VariationRanges& v = body.variation;
+        BodyInitialState s;
+        Vec3 offset, euler, lin, ang;
+        for (int k = 0; k < 3; ++k) offset[k] = random.uniform(v.location_min_m[k], v.location_max_m[k]);
+        for (int k = 0; k < 3; ++k) euler[k] = random.uniform(v.rotation_min_rad[k], v.rotation_max_rad[k]);
+        for (int k = 0; k < 3; ++k) lin[k] = random.uniform(v.linear_velocity_min[k], v.linear_velocity_max[k]);
+        for (int k = 0; k < 3; ++k) ang[k] = random.uniform(v.angular_velocity_min[k], v.angular_velocity_max[k]);
+        const double mass_scale = random.uniform(v.mass_scale_min, v.mass_scale_max);
+        const double friction_scale = random.uniform(v.friction_scale_min, v.friction_scale_max);
+        const double restitution_scale = random.uniform(v.restitution_scale_min, v.restitution_scale_max);
+        s.pose.location = add(body.initial.location, offset);
+        s.pose.rotation = quat_normalized(quat_multiply(quat_from_euler_xyz(euler), body.initial.rotation));
+        s.linear_velocity = add(body.initial_linear_velocity, lin);
+        s.angular_velocity = add(body.initial_angular_velocity, ang);
+        s.mass_kg = body.mass_kg * mass_scale;
+        s.friction = body.friction * friction_scale;
+        s.restitution = body.restitution * restitution_scale;
+        states.push_back(s);
+    }
+    return states;
+}
+
+OdeWorld::OdeWorld(const CompiledScene& compiled, const std::vector<BodyInitialState>& initial)
+    : compiled_(compiled), initial_(initial) {
+    prepare_ode_thread();
+    world_ = dWorldCreate();
+    threading_ = dThreadingAllocateSelfThreadedImplementation();
+    dWorldSetStepThreadingImplementation(world_, dThreadingImplementationGetFunctions(threading_), threading_);
+    const Vec3& g = compiled.scene().world.gravity;
+    dWorldSetGravity(world_, g[0], g[1], g[2]);
+    dWorldSetQuickStepNumIterations(world_, compiled.scene().world.solver_iterations);
+    dWorldSetAutoDisableFlag(world_, 0);
+    dWorldSetContactSurfaceLayer(world_, 0.001);
+    dWorldSetContactMaxCorrectingVel(world_, 10.0);
+    space_ = dHashSpaceCreate(nullptr);
+    contact_group_ = dJointGroupCreate(0);
+    create_bodies();
+    create_constraints();
+}
+
+OdeWorld::~OdeWorld() {
+    dJointGroupDestroy(contact_group_);
+    for (dGeomID geom : geoms_) dGeomDestroy(geom);
+    dSpaceDestroy(space_);
+    for (dTriMeshDataID data : mesh_data_) dGeomTriMeshDataDestroy(data);
+    dWorldDestroy(world_);
+    dThreadingFreeImplementation(threading_);
+}
+
+void OdeWorld::create_bodies() {
+    const auto& compiled_bodies = compiled_.bodies();
+    bodies_.assign(compiled_bodies.size(), nullptr);
+    for (size_t i = 0; i < compiled_bodies.size(); ++i) {
+        const CompiledBody& cb = compiled_bodies[i];
+        const BodyInitialState& s = initial_[i];
+        if (cb.dynamic || cb.kinematic) {
+            dBodyID body = dBodyCreate(world_);
+            bodies_[i] = body;
+            const Vec3 com = add(s.pose.location, quat_rotate(s.pose.rotation, cb.body_frame_offset_m));
+            dBodySetPosition(body, com[0], com[1], com[2]);
+            dQuaternion q;
+            to_ode_quaternion(s.pose.rotation, q);
+            dBodySetQuaternion(body, q);
+            if (cb.dynamic) {
+                const double scale_factor = s.mass_kg / compiled_.scene().bodies[i].mass_kg;
+                const auto& I = cb.inertia;
+                dMass mass;
+                dMassSetParameters(&mass, s.mass_kg, 0, 0, 0, I[0] * scale_factor, I[4] * scale_factor,
+                                   I[8] * scale_factor, I[1] * scale_factor, I[2] * scale_factor, I[5] * scale_factor);
+                dBodySetMass(body, &mass);
+                dBodySetLinearVel(body, s.linear_velocity[0], s.linear_velocity[1], s.linear_velocity[2]);
+                dBodySetAngularVel(body, s.angular_velocity[0], s.angular_velocity[1], s.angular_velocity[2]);
+            } else {
+                dBodySetKinematic(body);
+            }
+        }
+        create_geoms(i);
+    }
+}
+
+void OdeWorld::create_geoms(size_t body_index) {
+    const CompiledBody& cb = compiled_.bodies()[body_index];
+    const Body& body = compiled_.scene().bodies[body_index];
+    const uint32_t collections = body.collision_collections;
+    for (const CollisionPart& part : cb.parts) {
+        dGeomID geom = nullptr;
+        switch (part.kind) {
+            case PartKind::Box:
+                geom = dCreateBox(space_, 2 * part.half_extents_m[0], 2 * part.half_extents_m[1], 2 * part.half_extents_m[2]);
+                break;
+            case PartKind::Sphere: geom = dCreateSphere(space_, part.radius_m); break;
+            case PartKind::Capsule: geom = dCreateCapsule(space_, part.radius_m, part.length_m); break;
+            case PartKind::Cylinder: geom = dCreateCylinder(space_, part.radius_m, part.length_m); break;
+            case PartKind::Convex:
+                geom = dCreateConvex(space_, part.convex_planes.data(), part.convex_plane_count,
+                                     part.convex_points.data(), part.convex_point_count, part.convex_polygons.data());
+                break;
+            case PartKind::TriangleMesh: {
+                dTriMeshDataID data = dGeomTriMeshDataCreate();
+                mesh_data_.push_back(data);
+                dGeomTriMeshDataBuildDouble(data, part.mesh_vertices.data(), 3 * sizeof(double),
+                                            static_cast<int>(part.mesh_vertices.size() / 3), part.mesh_indices.data(),
+                                            static_cast<int>(part.mesh_indices.size()), 3 * sizeof(uint32_t));
+                geom = dCreateTriMesh(space_, data, nullptr, nullptr, nullptr);
+                break;
+            }
+        }
+        geoms_.push_back(geom);
+        dGeomSetData(geom, reinterpret_cast<void*>(static_cast<intptr_t>(geom_owners_.size())));
+        geom_owners_.push_back({static_cast<int32_t>(body_index), part.kind == PartKind::TriangleMesh});
+        // Blender bodies collide when they share a collision collection.
+        dGeomSetCategoryBits(geom, collections);
+        dGeomSetCollideBits(geom, collections);
+        const bool primitive = part.kind != PartKind::Convex && part.kind != PartKind::TriangleMesh;
+        dQuaternion q;
+        to_ode_quaternion(part.offset.rotation, q);
+        if (bodies_[body_index]) {
+            dGeomSetBody(geom, bodies_[body_index]);
+            if (primitive) {
+                dGeomSetOffsetPosition(geom, part.offset.location[0], part.offset.location[1], part.offset.location[2]);
+                dGeomSetOffsetQuaternion(geom, q);
+            }
+        } else {
+            const Transform& pose = initial_[body_index].pose;
+            const Transform placed = primitive ? Transform{add(pose.location, quat_rotate(pose.rotation, part.offset.location)),
+                                                           quat_multiply(pose.rotation, part.offset.rotation)}
+                                               : pose;
+            dGeomSetPosition(geom, placed.location[0], placed.location[1], placed.location[2]);
+            to_ode_quaternion(placed.rotation, q);
+            dGeomSetQuaternion(geom, q);
+        }
+    }
+}
+
+void OdeWorld::create_constraints() {
+    const Scene& scene = compiled_.scene();
+    joint_groups_.resize(scene.constraints.size());
+    for (size_t i = 0; i < scene.constraints.size(); ++i) {
+        const Constraint& c = scene.constraints[i];
+        if (c.disable_collisions)
+            no_collision_pairs_.emplace_back(std::min(scene.body_index(c.body_a), scene.body_index(c.body_b)),
+                                             std::max(scene.body_index(c.body_a), scene.body_index(c.body_b)));
+        if (c.enabled) create_constraint(i);
+    }
+    std::sort(no_collision_pairs_.begin(), no_collision_pairs_.end());
+}
+
+bool OdeWorld::collision_disabled(int32_t a, int32_t b) const {
+    const std::pair<int32_t, int32_t> key{std::min(a, b), std::max(a, b)};
+    return std::binary_search(no_collision_pairs_.begin(), no_collision_pairs_.end(), key);
+}
+
+BodyState OdeWorld::body_state(size_t i) const {
+    BodyState s;
+    dBodyID body = bodies_[i];
+    if (!body) {
+        const Transform& pose = initial_[i].pose;
+        return {pose.location, pose.rotation, {0, 0, 0}, {0, 0, 0}};
+    }
+    s.position_m = from_ode(dBodyGetPosition(body));
+    const dReal* q = dBodyGetQuaternion(body);
+    s.orientation = {q[0], q[1], q[2], q[3]};
+    s.linear_velocity = from_ode(dBodyGetLinearVel(body));
+    s.angular_velocity = from_ode(dBodyGetAngularVel(body));
+    return s;
+}
+
+void OdeWorld::set_body_state(size_t i, const BodyState& s) {
+    dBodyID body = bodies_[i];
+    if (!body) return;
+    dBodySetPosition(body, s.position_m[0], s.position_m[1], s.position_m[2]);
+    dQuaternion q;
+    to_ode_quaternion(s.orientation, q);
+    dBodySetQuaternion(body, q);
+    dBodySetLinearVel(body, s.linear_velocity[0], s.linear_velocity[1], s.linear_velocity[2]);
+    dBodySetAngularVel(body, s.angular_velocity[0], s.angular_velocity[1], s.angular_velocity[2]);
+}
+
+Transform OdeWorld::object_transform(size_t i) const {
+    if (!bodies_[i]) return initial_[i].pose;
+    const BodyState s = body_state(i);
+    const Vec3& offset = compiled_.bodies()[i].body_frame_offset_m;
+    return {sub(s.position_m, quat_rotate(s.orientation, offset)), s.orientation};
+}
+
+}  // namespace mwb

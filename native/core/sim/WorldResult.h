@@ -2,6 +2,7 @@
 // Everything one sampled world produces: recorded motion, contact events, rest times and
 // checkpoints. Positions and orientations are of the object's origin (what Blender keys);
 // checkpoints hold the simulator's centre-of-mass state so a world can be restarted exactly.
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -45,7 +46,8 @@ struct WorldResult {
     std::string reject_reason;
     double record_hz = 120.0;
     double step_hz = 240.0;
-    uint32_t frame_count = 0;              ///< recorded frames, frame i at time i / record_hz
+    uint32_t first_frame = 0;              ///< > 0 when resumed from a checkpoint
+    uint32_t frame_count = 0;              ///< recorded frames, frame i at time (first_frame + i) / record_hz
     uint32_t body_count = 0;
     std::vector<double> positions_m;       ///< (body_count, frame_count, 3) object origins
     std::vector<double> orientations;      ///< (body_count, frame_count, 4) w, x, y, z

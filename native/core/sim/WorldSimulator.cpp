@@ -1,0 +1,461 @@
+#include "sim/WorldSimulator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <mutex>
+
+#include "sim/ImpactPerturber.h"
+#include "sim/OdeRandom.h"
+#include "sim/PortableRandom.h"
+#include "sim/WorldBuilder.h"
+
+namespace mwb {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kMaxContactsPerPair = 8;
+constexpr uint64_t kInitialStream = 0;
+constexpr uint64_t kPerturbationStream = 1;
+
+// libode has one scratch cache for triangle-mesh collisions in this build; two threads in it at
+// once corrupt each other.
+std::mutex g_trimesh_mutex;
+
+Transform sample_animation(const KinematicTrack& track, double time_s, const Transform& fallback) {
+    if (track.times_s.empty()) return fallback;
+    if (time_s <= track.times_s.front()) return track.transforms.front();
+    if (time_s >= track.times_s.back()) return track.transforms.back();
+    const size_t hi = static_cast<size_t>(std::upper_bound(track.times_s.begin(), track.times_s.end(), time_s) -
+                                          track.times_s.begin());
+    const size_t lo = hi - 1;
+    const double u = (time_s - track.times_s[lo]) / (track.times_s[hi] - track.times_s[lo]);
+    const Transform& a = track.transforms[lo];
+    const Transform& b = track.transforms[hi];
+    Quat qb = b.rotation;
+    if (a.rotation[0] * qb[0] + a.rotation[1] * qb[1] + a.rotation[2] * qb[2] + a.rotation[3] * qb[3] < 0)
+        qb = {-qb[0], -qb[1], -qb[2], -qb[3]};
+    Quat q;
+    for (int k = 0; k < 4; ++k) q[k] = a.rotation[k] + (qb[k] - a.rotation[k]) * u;
+    return {add(a.location, scale(sub(b.location, a.location), u)), quat_normalized(q)};
+}
+
+// World-frame angular velocity taking rotation q0 to q1 in dt.
+Vec3 angular_velocity_between(const Quat& q0, const Quat& q1, double dt) {
+    Quat d = quat_multiply(q1, quat_conjugate(q0));
+    if (d[0] < 0) d = {-d[0], -d[1], -d[2], -d[3]};
+    const Vec3 v{d[1], d[2], d[3]};
+    const double s = norm(v);
+    if (s < 1e-15) return {0, 0, 0};
+    const double angle = 2 * std::atan2(s, d[0]);
+    return scale(v, angle / (s * dt));
+}
+
+bool finite(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
+
+struct CandidatePairs {
+    std::vector<std::pair<dGeomID, dGeomID>> pairs;
+};
+
+void collect_pair(void* data, dGeomID a, dGeomID b) {
+    static_cast<CandidatePairs*>(data)->pairs.emplace_back(a, b);
+}
+
+intptr_t geom_index(dGeomID geom) { return reinterpret_cast<intptr_t>(dGeomGetData(geom)); }
+
+// Runs one world step by step. Contacts are generated in a fixed order (sorted geom pairs, not
+// the space's internal order, which depends on history) so a restart from a checkpoint replays
+// exactly.
+class WorldRun {
+public:
+    WorldRun(const CompiledScene& compiled, uint64_t base_seed, uint64_t world_index)
+        : compiled_(compiled),
+          seed_(derive_world_seed(base_seed, world_index)),
+          perturbation_random_(derive_stream_seed(seed_, kPerturbationStream)),
+          perturber_(compiled.parameters().alpha_linear, compiled.parameters().lobe_exponent),
+          angular_perturber_(compiled.parameters().alpha_angular, compiled.parameters().lobe_exponent) {
+        PortableRandom initial_random(derive_stream_seed(seed_, kInitialStream));
+        world_ = std::make_unique<OdeWorld>(compiled, draw_initial_states(compiled.scene(), initial_random));
+        result_.world_index = world_index;
+        result_.seed = seed_;
+        result_.record_hz = compiled.parameters().record_hz;
+        result_.step_hz = compiled.step_hz();
+        result_.body_count = static_cast<uint32_t>(compiled.bodies().size());
+        const size_t n = compiled.bodies().size();
+        rest_since_s_.assign(n, -1.0);
+        previous_linear_.resize(n);
+        previous_angular_.resize(n);
+        // The same solver ordering for every world: worlds differ only by their initial states and
+        // perturbations, not by solver noise.
+        ode_random_state_ = 0;
+        const double g = std::max(norm(compiled.scene().world.gravity), 9.81);
+        impact_linear_threshold_ = compiled.parameters().impact_linear_factor * compiled.physics_dt_s() * g;
+        impact_angular_threshold_ = compiled.parameters().impact_angular_factor * compiled.physics_dt_s() * kPi;
+    }
+
+    void restore(const Checkpoint& checkpoint) {
+        restored_ = &checkpoint;
+        step_ = checkpoint.step_index;
+        for (size_t i = 0; i < checkpoint.bodies.size(); ++i)
+            if (compiled_.bodies()[i].dynamic) world_->set_body_state(i, checkpoint.bodies[i]);
+        auto& groups = world_->joint_groups();
+        for (size_t i = 0; i < groups.size(); ++i)
+            if (checkpoint.joint_broken[i]) break_joint(groups[i]);
+        ode_random_state_ = checkpoint.ode_random_state;
+        perturbation_random_ = PortableRandom(checkpoint.perturbation_random_state);
+        rest_since_s_ = checkpoint.body_rest_since_s;
+        first_frame_ = static_cast<uint32_t>(step_ / compiled_.steps_per_frame());
+    }
+
+    WorldResult run(const std::atomic<bool>* cancel) {
+        try {
+            loop(cancel);
+        } catch (const OdeError& error) {
+            reject(error.what());
+        }
+        finish();
+        return std::move(result_);
+    }
+
+private:
+    double time_at(uint64_t step) const { return static_cast<double>(step) / compiled_.step_hz(); }
+
+    void loop(const std::atomic<bool>* cancel) {
+        const uint32_t spf = compiled_.steps_per_frame();
+        const size_t max_frames = compiled_.total_steps() / spf + 1 - first_frame_;
+        frames_.reserve(max_frames * compiled_.bodies().size());
+        bool stop = false;
+        for (;; ++step_) {
+            if (step_ % compiled_.steps_per_checkpoint() == 0) save_checkpoint();
+            if (step_ % spf == 0) {
+                record_frame();
+                if (cancel && cancel->load(std::memory_order_relaxed)) {
+                    result_.status = WorldStatus::Cancelled;
+                    return;
+                }
+            }
+            if (stop || step_ >= compiled_.total_steps()) return;
+            step_once();
+            if (result_.status == WorldStatus::Rejected) return;
+            stop = (step_ + 1) % spf == 0 && compiled_.parameters().stop_at_rest && world_at_rest(time_at(step_ + 1));
+        }
+    }
+
+    void step_once() {
+        const double t = time_at(step_);
+        const double dt = compiled_.physics_dt_s();
+        drive_kinematic_bodies(t);
+        generate_contacts();
+        const size_t n = compiled_.bodies().size();
+        for (size_t i = 0; i < n; ++i) {
+            if (!compiled_.bodies()[i].dynamic) continue;
+            previous_linear_[i] = world_->body_state(i).linear_velocity;
+            previous_angular_[i] = world_->body_state(i).angular_velocity;
+        }
+        {
+            OdeRandomScope random_scope(ode_random_state_);
+            dWorldQuickStep(world_->world(), dt);
+        }
+        dJointGroupEmpty(world_->contact_group());
+        const double t_after = time_at(step_ + 1);
+        for (size_t i = 0; i < n; ++i) {
+            if (!compiled_.bodies()[i].dynamic) continue;
+            if (!after_step(i, t_after)) return;
+        }
+        check_breaking_joints();
+    }
+
+    void drive_kinematic_bodies(double t) {
+        const Scene& scene = compiled_.scene();
+        const double dt_anim = 1.0 / compiled_.step_hz();
+        for (size_t i = 0; i < scene.bodies.size(); ++i) {
+            if (!compiled_.bodies()[i].kinematic) continue;
+            const Transform& rest = world_->initial_states()[i].pose;
+            const Transform now = sample_animation(scene.bodies[i].animation, t, rest);
+            const Transform next = sample_animation(scene.bodies[i].animation, t + dt_anim, rest);
+            // Velocities in physics time so the contact solver sees the animation's true speed.
+            const double dt = compiled_.physics_dt_s();
+            BodyState s{now.location, now.rotation, scale(sub(next.location, now.location), 1.0 / dt),
+                        angular_velocity_between(now.rotation, next.rotation, dt)};
+            dBodyID body = world_->bodies()[i];
+            dBodySetPosition(body, s.position_m[0], s.position_m[1], s.position_m[2]);
+            dQuaternion q{s.orientation[0], s.orientation[1], s.orientation[2], s.orientation[3]};
+            dBodySetQuaternion(body, q);
+            dBodySetLinearVel(body, s.linear_velocity[0], s.linear_velocity[1], s.linear_velocity[2]);
+            dBodySetAngularVel(body, s.angular_velocity[0], s.angular_velocity[1], s.angular_velocity[2]);
+        }
+    }
+
+    void generate_contacts() {
+        candidates_.pairs.clear();
+        dSpaceCollide(world_->space(), &candidates_, collect_pair);
+        for (auto& pair : candidates_.pairs)
+            if (geom_index(pair.first) > geom_index(pair.second)) std::swap(pair.first, pair.second);
+        std::sort(candidates_.pairs.begin(), candidates_.pairs.end(),
+                  [](const auto& x, const auto& y) {
+                      return std::make_pair(geom_index(x.first), geom_index(x.second)) <
+                             std::make_pair(geom_index(y.first), geom_index(y.second));
+                  });
+        deepest_partner_.assign(compiled_.bodies().size(), {-1, -1.0});
+        for (const auto& [ga, gb] : candidates_.pairs) collide_pair(ga, gb);
+    }
+
+    void collide_pair(dGeomID ga, dGeomID gb) {
+        const auto& owners = world_->geom_owners();
+        const GeomOwner& oa = owners[geom_index(ga)];
+        const GeomOwner& ob = owners[geom_index(gb)];
+        if (oa.body == ob.body) return;
+        const bool moving_a = compiled_.bodies()[oa.body].dynamic;
+        const bool moving_b = compiled_.bodies()[ob.body].dynamic;
+        if (!moving_a && !moving_b) return;
+        if (world_->collision_disabled(oa.body, ob.body)) return;
+        dContactGeom contacts[kMaxContactsPerPair];
+        int count;
+        if (oa.is_mesh || ob.is_mesh) {
+            std::lock_guard<std::mutex> lock(g_trimesh_mutex);
+            count = dCollide(ga, gb, kMaxContactsPerPair, contacts, sizeof(dContactGeom));
+        } else {
+            count = dCollide(ga, gb, kMaxContactsPerPair, contacts, sizeof(dContactGeom));
+        }
+        if (count == 0) return;
+        const BodyInitialState& ma = world_->initial_states()[oa.body];
+        const BodyInitialState& mb = world_->initial_states()[ob.body];
+        dSurfaceParameters surface{};
+        // Bullet (Blender) combines friction and restitution by multiplication.
+        surface.mode = dContactApprox1;
+        surface.mu = ma.friction * mb.friction;
+        const double bounce = ma.restitution * mb.restitution;
+        if (bounce > 0) {
+            surface.mode |= dContactBounce;
+            surface.bounce = bounce;
+            surface.bounce_vel = 0.1;
+        }
+        dBodyID ba = world_->bodies()[oa.body];
+        dBodyID bb = world_->bodies()[ob.body];
+        for (int k = 0; k < count; ++k) {
+            dContact contact{};
+            contact.surface = surface;
+            contact.geom = contacts[k];
+            dJointID joint = dJointCreateContact(world_->world(), world_->contact_group(), &contact);
+            dJointAttach(joint, ba, bb);
+            note_partner(oa.body, ob.body, contacts[k].depth);
+            note_partner(ob.body, oa.body, contacts[k].depth);
+        }
+    }
+
+    void note_partner(int32_t body, int32_t other, double depth) {
+        auto& slot = deepest_partner_[body];
+        if (depth > slot.second) slot = {other, depth};
+    }
+
+    // Impact detection, perturbation, damping, explosion check and rest tracking for body i.
+    bool after_step(size_t i, double t_after) {
+        dBodyID body = world_->bodies()[i];
+        const SimulationParameters& p = compiled_.parameters();
+        const double dt = compiled_.physics_dt_s();
+        Vec3 v = from_ode(dBodyGetLinearVel(body));
+        Vec3 w = from_ode(dBodyGetAngularVel(body));
+        const Vec3 delta_v = sub(sub(v, previous_linear_[i]), scale(compiled_.scene().world.gravity, dt));
+        const Vec3 delta_w = sub(w, previous_angular_[i]);
+        // Only collisions are impacts: joint and motor forces also change velocities but are not
+        // events an observer would judge, and perturbing them would add noise to every chain.
+        const bool touched = deepest_partner_[i].first >= 0;
+        const bool linear_impact = touched && norm(delta_v) > impact_linear_threshold_;
+        const bool angular_impact = touched && norm(delta_w) > impact_angular_threshold_;
+        if (linear_impact || angular_impact) {
+            result_.contacts.push_back({t_after, static_cast<int32_t>(i), deepest_partner_[i].first,
+                                        world_->initial_states()[i].mass_kg * norm(delta_v)});
+            if (p.perturb) {
+                if (linear_impact) v = add(v, perturber_.perturbation(delta_v, perturbation_random_));
+                if (angular_impact) w = add(w, angular_perturber_.perturbation(delta_w, perturbation_random_));
+                ++result_.impacts_perturbed;
+            }
+        }
+        // Bullet's damping model, as Blender uses it: v *= (1 - d)^dt.
+        const Body& scene_body = compiled_.scene().bodies[i];
+        v = scale(v, std::pow(1.0 - scene_body.linear_damping, dt));
+        w = scale(w, std::pow(1.0 - scene_body.angular_damping, dt));
+        dBodySetLinearVel(body, v[0], v[1], v[2]);
+        dBodySetAngularVel(body, w[0], w[1], w[2]);
+        const Vec3 position = from_ode(dBodyGetPosition(body));
+        if (!finite(v) || !finite(w) || !finite(position)) return reject("body '" + scene_body.name + "' became non-finite");
+        if (norm(v) > p.max_speed_mps)
+            return reject("body '" + scene_body.name + "' exploded (speed above " + std::to_string(p.max_speed_mps) + " m/s)");
+        if (norm(position) > p.max_distance_m)
+            return reject("body '" + scene_body.name + "' left the world (beyond " + std::to_string(p.max_distance_m) + " m)");
+        const bool resting = norm(v) < p.rest_linear_speed && norm(w) < p.rest_angular_speed;
+        if (!resting) rest_since_s_[i] = -1;
+        else if (rest_since_s_[i] < 0) rest_since_s_[i] = t_after;
+        return true;
+    }
+
+    static Vec3 from_ode(const dReal* v) { return {v[0], v[1], v[2]}; }
+
+    bool reject(const std::string& reason) {
+        result_.status = WorldStatus::Rejected;
+        result_.reject_reason = reason;
+        return false;
+    }
+
+    void break_joint(JointGroup& group) {
+        for (dJointID joint : group.joints) dJointDisable(joint);
+        group.broken = true;
+    }
+
+    void check_breaking_joints() {
+        const auto& constraints = compiled_.scene().constraints;
+        auto& groups = world_->joint_groups();
+        for (size_t i = 0; i < groups.size(); ++i) {
+            JointGroup& group = groups[i];
+            if (group.broken || !group.feedback) continue;
+            const Vec3 force{group.feedback->f1[0], group.feedback->f1[1], group.feedback->f1[2]};
+            if (norm(force) * compiled_.physics_dt_s() > constraints[i].breaking_threshold) break_joint(group);
+        }
+    }
+
+    bool world_at_rest(double t) const {
+        const Scene& scene = compiled_.scene();
+        for (size_t i = 0; i < scene.bodies.size(); ++i) {
+            const CompiledBody& body = compiled_.bodies()[i];
+            if (body.kinematic && !scene.bodies[i].animation.times_s.empty() && t < scene.bodies[i].animation.times_s.back())
+                return false;
+            if (body.dynamic && (rest_since_s_[i] < 0 || t - rest_since_s_[i] < compiled_.parameters().rest_duration_s))
+                return false;
+        }
+        return true;
+    }
+
+    // ODE renormalizes a quaternion when it is set, and that normalization is not idempotent
+    // (about one orientation in eight flips between two neighbours). So a checkpoint stores each
+    // orientation as it was *before* being set, and the original run sets it too: a restored run
+    // sets the same bits and continues from exactly the same state.
+    void save_checkpoint() {
+        if (restored_ && step_ == restored_->step_index) {
+            result_.checkpoints.push_back(*restored_);
+            return;
+        }
+        Checkpoint c;
+        c.step_index = step_;
+        const size_t n = compiled_.bodies().size();
+        c.bodies.reserve(n);
+        for (size_t i = 0; i < n; ++i) {
+            c.bodies.push_back(world_->body_state(i));
+            if (compiled_.bodies()[i].dynamic) world_->set_body_state(i, c.bodies.back());
+        }
+        for (const JointGroup& group : world_->joint_groups()) c.joint_broken.push_back(group.broken ? 1 : 0);
+        c.ode_random_state = ode_random_state_;
+        c.perturbation_random_state = perturbation_random_.state();
+        c.body_rest_since_s = rest_since_s_;
+        result_.checkpoints.push_back(std::move(c));
+    }
+
+    void record_frame() {
+        for (size_t i = 0; i < compiled_.bodies().size(); ++i) {
+            Transform pose = world_->object_transform(i);
+            if (compiled_.bodies()[i].kinematic)
+                pose = sample_animation(compiled_.scene().bodies[i].animation, time_at(step_), pose);
+            frames_.push_back(pose);
+        }
+    }
+
+    void finish() {
+        const size_t n = compiled_.bodies().size();
+        const size_t frames = n ? frames_.size() / n : 0;
+        result_.first_frame = first_frame_;
+        result_.frame_count = static_cast<uint32_t>(frames);
+        result_.positions_m.resize(n * frames * 3);
+        result_.orientations.resize(n * frames * 4);
+        for (size_t f = 0; f < frames; ++f) {
+            for (size_t i = 0; i < n; ++i) {
+                const Transform& pose = frames_[f * n + i];
+                std::copy(pose.location.begin(), pose.location.end(), &result_.positions_m[(i * frames + f) * 3]);
+                std::copy(pose.rotation.begin(), pose.rotation.end(), &result_.orientations[(i * frames + f) * 4]);
+            }
+        }
+        result_.simulated_time_s = time_at(step_);
+        result_.rest_time_s.assign(n, 0.0);
+        for (size_t i = 0; i < n; ++i)
+            if (compiled_.bodies()[i].dynamic)
+                result_.rest_time_s[i] = rest_since_s_[i] >= 0 ? rest_since_s_[i] : result_.simulated_time_s;
+    }
+
+    const CompiledScene& compiled_;
+    uint64_t seed_;
+    PortableRandom perturbation_random_;
+    ImpactPerturber perturber_;
+    ImpactPerturber angular_perturber_;
+    std::unique_ptr<OdeWorld> world_;
+    WorldResult result_;
+    uint64_t step_ = 0;
+    uint32_t first_frame_ = 0;
+    const Checkpoint* restored_ = nullptr;
+    uint64_t ode_random_state_ = 0;
+    double impact_linear_threshold_ = 0;
+    double impact_angular_threshold_ = 0;
+    std::vector<double> rest_since_s_;
+    std::vector<Vec3> previous_linear_, previous_angular_;
+    std::vector<std::pair<int32_t, double>> deepest_partner_;
+    std::vector<Transform> frames_;
+    CandidatePairs candidates_;
+};
+
+template <typename T>
+void hash_bytes(uint64_t& h, const T* data, size_t count) {
+    const auto* bytes = reinterpret_cast<const unsigned char*>(data);
+    for (size_t i = 0; i < count * sizeof(T); ++i) {
+        h ^= bytes[i];
+        h *= 0x100000001B3ull;
+    }
+}
+
+}  // namespace
+
+WorldResult simulate_world(const CompiledScene& compiled, uint64_t base_seed, uint64_t world_index,
+                           const std::atomic<bool>* cancel) {
+    try {
+        WorldRun run(compiled, base_seed, world_index);
+        return run.run(cancel);
+    } catch (const OdeError& error) {
+        WorldResult result;
+        result.world_index = world_index;
+        result.seed = derive_world_seed(base_seed, world_index);
+        result.status = WorldStatus::Rejected;
+        result.reject_reason = error.what();
+        return result;
+    }
+}
+
+WorldResult resume_world(const CompiledScene& compiled, uint64_t base_seed, uint64_t world_index,
+                         const Checkpoint& checkpoint, const std::atomic<bool>* cancel) {
+    WorldRun run(compiled, base_seed, world_index);
+    run.restore(checkpoint);
+    return run.run(cancel);
+}
+
+uint64_t hash_world(const WorldResult& world) {
+    uint64_t h = 0xCBF29CE484222325ull;
+    hash_bytes(h, &world.frame_count, 1);
+    hash_bytes(h, world.positions_m.data(), world.positions_m.size());
+    hash_bytes(h, world.orientations.data(), world.orientations.size());
+    for (const ContactEvent& e : world.contacts) {
+        hash_bytes(h, &e.time_s, 1);
+        hash_bytes(h, &e.body, 1);
+        hash_bytes(h, &e.other, 1);
+        hash_bytes(h, &e.impulse_ns, 1);
+    }
+    hash_bytes(h, world.rest_time_s.data(), world.rest_time_s.size());
+    for (const Checkpoint& c : world.checkpoints) {
+        hash_bytes(h, &c.step_index, 1);
+        for (const BodyState& s : c.bodies) {
+            hash_bytes(h, s.position_m.data(), 3);
+            hash_bytes(h, s.orientation.data(), 4);
+            hash_bytes(h, s.linear_velocity.data(), 3);
+            hash_bytes(h, s.angular_velocity.data(), 3);
+        }
+        hash_bytes(h, &c.ode_random_state, 1);
+        hash_bytes(h, c.perturbation_random_state.data(), 4);
+    }
+    return h;
+}
+
+}  // namespace mwb

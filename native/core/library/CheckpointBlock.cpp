@@ -1,0 +1,88 @@
+#include "library/CheckpointBlock.h"
+
+#include <zlib.h>
+
+namespace mwb {
+namespace {
+
+// Far above any real block (a 1000-body world checkpointed every 0.5 s for 10 min is ~150 MB);
+// refuses absurd sizes from corrupted headers before allocating.
+constexpr uint64_t kMaxInflatedBytes = uint64_t{1} << 30;
+constexpr size_t kBodyStateBytes = 13 * sizeof(double) + sizeof(double);
+
+void put_vec(ByteWriter& out, const double* v, int n) {
+    for (int k = 0; k < n; ++k) out.put(v[k]);
+}
+
+void get_vec(ByteReader& in, double* v, int n) {
+    for (int k = 0; k < n; ++k) v[k] = in.get<double>();
+}
+
+}  // namespace
+
+void write_checkpoints(ByteWriter& out, const std::vector<Checkpoint>& checkpoints, uint32_t body_count,
+                       uint32_t joint_count) {
+    ByteWriter raw;
+    raw.put(static_cast<uint32_t>(checkpoints.size()));
+    raw.put(body_count);
+    raw.put(joint_count);
+    for (const Checkpoint& c : checkpoints) {
+        raw.put(c.step_index);
+        raw.put(c.ode_random_state);
+        for (uint64_t word : c.perturbation_random_state) raw.put(word);
+        for (uint32_t i = 0; i < body_count; ++i) {
+            const BodyState& s = c.bodies[i];
+            put_vec(raw, s.position_m.data(), 3);
+            put_vec(raw, s.orientation.data(), 4);
+            put_vec(raw, s.linear_velocity.data(), 3);
+            put_vec(raw, s.angular_velocity.data(), 3);
+            raw.put(c.body_rest_since_s[i]);
+        }
+        for (uint32_t j = 0; j < joint_count; ++j) raw.put(c.joint_broken[j]);
+    }
+    const std::vector<uint8_t>& plain = raw.bytes();
+    uLongf packed_size = compressBound(plain.size());
+    std::vector<uint8_t> packed(packed_size);
+    if (compress2(packed.data(), &packed_size, plain.data(), plain.size(), 6) != Z_OK)
+        throw LibraryError("checkpoint compression failed");
+    packed.resize(packed_size);
+    out.put(static_cast<uint64_t>(plain.size()));
+    out.put_blob(packed);
+}
+
+std::vector<Checkpoint> read_checkpoints(ByteReader& in) {
+    const auto plain_size = in.get<uint64_t>();
+    const auto [packed, packed_size] = in.get_blob();
+    if (plain_size > kMaxInflatedBytes) in.fail("checkpoint block claims " + std::to_string(plain_size) + " bytes");
+    std::vector<uint8_t> plain(plain_size);
+    uLongf out_size = plain_size;
+    if (uncompress(plain.data(), &out_size, packed, packed_size) != Z_OK || out_size != plain_size)
+        in.fail("checkpoint block does not inflate");
+    ByteReader raw(plain.data(), plain.size(), "checkpoint block");
+    const size_t count = raw.get_count(1);
+    const auto body_count = raw.get<uint32_t>();
+    const auto joint_count = raw.get<uint32_t>();
+    const uint64_t per_checkpoint = 6 * 8 + uint64_t{body_count} * kBodyStateBytes + joint_count;
+    if (count * per_checkpoint > raw.remaining()) raw.fail("checkpoint counts exceed the block");
+    std::vector<Checkpoint> checkpoints(count);
+    for (Checkpoint& c : checkpoints) {
+        c.step_index = raw.get<uint64_t>();
+        c.ode_random_state = raw.get<uint64_t>();
+        for (uint64_t& word : c.perturbation_random_state) word = raw.get<uint64_t>();
+        c.bodies.resize(body_count);
+        c.body_rest_since_s.resize(body_count);
+        for (uint32_t i = 0; i < body_count; ++i) {
+            BodyState& s = c.bodies[i];
+            get_vec(raw, s.position_m.data(), 3);
+            get_vec(raw, s.orientation.data(), 4);
+            get_vec(raw, s.linear_velocity.data(), 3);
+            get_vec(raw, s.angular_velocity.data(), 3);
+            c.body_rest_since_s[i] = raw.get<double>();
+        }
+        c.joint_broken.resize(joint_count);
+        for (uint32_t j = 0; j < joint_count; ++j) c.joint_broken[j] = raw.get<uint8_t>();
+    }
+    return checkpoints;
+}
+
+}  // namespace mwb

@@ -1,0 +1,121 @@
+#include "library/LibraryReader.h"
+
+#include <cstring>
+
+#include "library/ByteIO.h"
+#include "library/FileBytes.h"
+#include "library/LibraryFormat.h"
+
+namespace mwb {
+namespace {
+
+uint32_t u32_at(const uint8_t* p) {
+    uint32_t v;
+    std::memcpy(&v, p, 4);
+    return v;
+}
+
+// A complete, checksummed record starts at `at` (relative to `bytes`)?
+bool valid_record_at(const std::vector<uint8_t>& bytes, size_t at) {
+    if (bytes.size() - at < kRecordHeaderBytes) return false;
+    const uint8_t* p = bytes.data() + at;
+    if (u32_at(p) != kRecordMagic) return false;
+    const uint32_t size = u32_at(p + 12);
+    if (size > kMaxRecordPayloadBytes || bytes.size() - at - kRecordHeaderBytes < size) return false;
+    const uint32_t crc = crc32_of(p + kRecordHeaderBytes, size, crc32_of(p + 4, 12));
+    return crc == u32_at(p + 16);
+}
+
+// First offset after `from` where a valid record starts, or bytes.size().
+size_t find_next_record(const std::vector<uint8_t>& bytes, size_t from) {
+    for (size_t at = from; at + kRecordHeaderBytes <= bytes.size(); ++at)
+        if (valid_record_at(bytes, at)) return at;
+    return bytes.size();
+}
+
+}  // namespace
+
+LibraryReader::LibraryReader(std::string path, bool keep_raw_records) : path_(std::move(path)), keep_raw_(keep_raw_records) {
+    const std::vector<uint8_t> bytes = read_file_from(path_, 0);
+    file_size_ = bytes.size();
+    read_header(bytes);
+    const std::vector<uint8_t> records(bytes.begin() + static_cast<std::ptrdiff_t>(offset_), bytes.end());
+    parse_records(records, offset_, true);
+}
+
+void LibraryReader::read_header(const std::vector<uint8_t>& bytes) {
+    if (bytes.size() < sizeof kLibraryMagic || std::memcmp(bytes.data(), kLibraryMagic, sizeof kLibraryMagic) != 0)
+        throw LibraryError(path_ + ": not a Many-Worlds library file (bad magic at byte 0)");
+    ByteReader in(bytes.data(), bytes.size(), path_);
+    in.get<uint64_t>();
+    const auto version = in.get<uint32_t>();
+    if (version != kLibraryFormatVersion)
+        throw LibraryError(path_ + ": library format version " + std::to_string(version) +
+                           " is not supported (this build reads version " + std::to_string(kLibraryFormatVersion) + ")");
+    const auto size = in.get<uint32_t>();
+    if (size > kMaxHeaderBytes || size + 4 > in.remaining())
+        throw LibraryError(path_ + ", byte 12: run header is truncated");
+    const uint8_t* text = bytes.data() + in.offset();
+    const uint32_t crc = u32_at(text + size);
+    if (crc32_of(text, size) != crc) throw LibraryError(path_ + ", byte 16: run header checksum mismatch");
+    header_ = run_header_from_json(std::string(reinterpret_cast<const char*>(text), size), path_);
+    offset_ = in.offset() + size + 4;
+}
+
+void LibraryReader::parse_records(const std::vector<uint8_t>& bytes, uint64_t base_offset, bool at_open) {
+    size_t at = 0;
+    while (at < bytes.size()) {
+        if (valid_record_at(bytes, at)) {
+            const uint8_t* p = bytes.data() + at;
+            const uint32_t size = u32_at(p + 12);
+            RawRecord record{base_offset + at, u32_at(p + 4), u32_at(p + 8),
+                             std::vector<uint8_t>(p + kRecordHeaderBytes, p + kRecordHeaderBytes + size)};
+            accept_record(std::move(record));
+            at += kRecordHeaderBytes + size;
+            continue;
+        }
+        const size_t next = find_next_record(bytes, at + 1);
+        if (next == bytes.size()) {
+            // Nothing valid follows: an incomplete last record, perhaps still being written.
+            if (at_open)
+                warnings_.push_back(path_ + ", byte " + std::to_string(base_offset + at) + ": last record is incomplete (" +
+                                    std::to_string(bytes.size() - at) +
+                                    " bytes); skipped - the writer was interrupted or is still writing");
+            break;
+        }
+        warnings_.push_back(path_ + ", byte " + std::to_string(base_offset + at) + ": damaged record (bad magic or checksum); skipped " +
+                            std::to_string(next - at) + " bytes");
+        at = next;
+    }
+    offset_ = base_offset + at;
+}
+
+bool LibraryReader::accept_record(RawRecord&& record) {
+    const std::string where = path_ + ", record at byte " + std::to_string(record.offset);
+    try {
+        if (record.type == kRecordTypeWorld && record.version == kWorldRecordVersion) {
+            worlds_.push_back(decode_world_record(record.payload.data(), record.payload.size(), where));
+        } else if (record.type == kRecordTypeRejection && record.version == kRejectionRecordVersion) {
+            rejections_.push_back(decode_rejection_record(record.payload.data(), record.payload.size(), where));
+        } else {
+            warnings_.push_back(where + ": record type " + std::to_string(record.type) + " version " +
+                                std::to_string(record.version) + " is not understood by this build; skipped");
+            return false;
+        }
+    } catch (const LibraryError& error) {
+        warnings_.push_back(std::string(error.what()) + "; skipped");
+        return false;
+    }
+    if (keep_raw_) raw_.push_back(std::move(record));
+    return true;
+}
+
+size_t LibraryReader::poll() {
+    const size_t before = worlds_.size();
+    const std::vector<uint8_t> bytes = read_file_from(path_, offset_);
+    file_size_ = offset_ + bytes.size();
+    parse_records(bytes, offset_, false);
+    return worlds_.size() - before;
+}
+
+}  // namespace mwb

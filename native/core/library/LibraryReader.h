@@ -1,0 +1,65 @@
+#pragma once
+// Reads a library file: the run header, every intact world, and a clear account of anything that
+// was not (torn last record, checksum mismatch, unknown record versions). Can follow a file that
+// is still being written.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "library/RunHeader.h"
+#include "library/WorldRecord.h"
+
+namespace mwb {
+
+/// One framed record as found in the file.
+struct RawRecord {
+    uint64_t offset = 0;  ///< of the record header in the file
+    uint32_t type = 0;
+    uint32_t version = 0;
+    std::vector<uint8_t> payload;
+};
+
+class LibraryReader {
+public:
+    /// Opens `path` and reads everything intact. Throws LibraryError (path and offset in the
+    /// message) when the file is not a library, is of an unknown format version, or its header is
+    /// damaged. Damaged records are skipped and reported in warnings(), never thrown.
+    explicit LibraryReader(std::string path, bool keep_raw_records = false);
+
+    const std::string& path() const { return path_; }
+    const RunHeader& header() const { return header_; }
+    const std::vector<StoredWorld>& worlds() const { return worlds_; }
+    const std::vector<StoredRejection>& rejections() const { return rejections_; }
+    /// Records as read, when constructed with keep_raw_records (for merging).
+    const std::vector<RawRecord>& raw_records() const { return raw_; }
+    const std::vector<std::string>& warnings() const { return warnings_; }
+    /// Bytes at the end that do not (yet) form a complete record.
+    uint64_t pending_tail_bytes() const { return file_size_ - offset_; }
+    uint64_t file_size() const { return file_size_; }
+
+    /// Reads records appended since the last read; returns how many new worlds arrived. An
+    /// incomplete last record is left for the next poll (a writer may still be writing it).
+    size_t poll();
+
+private:
+    void read_header(const std::vector<uint8_t>& bytes);
+    void parse_records(const std::vector<uint8_t>& bytes, uint64_t base_offset, bool at_end);
+    bool accept_record(RawRecord&& record);
+
+    std::string path_;
+    bool keep_raw_;
+    RunHeader header_;
+    std::vector<StoredWorld> worlds_;
+    std::vector<StoredRejection> rejections_;
+    std::vector<RawRecord> raw_;
+    std::vector<std::string> warnings_;
+    uint64_t offset_ = 0;     ///< first byte not yet consumed
+    uint64_t file_size_ = 0;
+};
+
+/// Merges library files of the same run into `output` (which must not exist). Refuses, naming
+/// them, files of another run and world indices present in more than one input. Records are
+/// copied byte for byte, ordered by world index. Returns warnings from reading the inputs.
+std::vector<std::string> merge_libraries(const std::vector<std::string>& inputs, const std::string& output);
+
+}  // namespace mwb

@@ -1,0 +1,111 @@
+#include "library/LibraryWriter.h"
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+
+#include "library/ByteIO.h"
+#include "library/FileBytes.h"
+#include "library/LibraryFormat.h"
+#include "library/LibraryReader.h"
+#include "library/WorldRecordEncoder.h"
+#include "scene/SceneJson.h"
+
+namespace mwb {
+namespace {
+
+[[noreturn]] void fail(const std::string& path, const std::string& what) {
+    throw LibraryError(path + ": " + what + " (" + std::strerror(errno) + ")");
+}
+
+void write_all(int fd, const std::vector<uint8_t>& bytes, const std::string& path) {
+    size_t done = 0;
+    while (done < bytes.size()) {
+        const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) fail(path, "write failed");
+        done += static_cast<size_t>(n);
+    }
+}
+
+std::vector<uint8_t> file_prologue(const RunHeader& header) {
+    const std::string json = run_header_to_json(header);
+    ByteWriter out;
+    out.put_bytes(reinterpret_cast<const uint8_t*>(kLibraryMagic), sizeof kLibraryMagic);
+    out.put(kLibraryFormatVersion);
+    out.put(static_cast<uint32_t>(json.size()));
+    out.put_bytes(reinterpret_cast<const uint8_t*>(json.data()), json.size());
+    out.put(crc32_of(reinterpret_cast<const uint8_t*>(json.data()), json.size()));
+    return std::move(out.bytes());
+}
+
+}  // namespace
+
+LibraryWriter::LibraryWriter(const std::string& path, const RunHeader& header)
+    : path_(path), header_(header), gravity_(scene_from_json(header.scene_json).world.gravity) {
+    struct stat info{};
+    const bool exists = ::stat(path.c_str(), &info) == 0 && info.st_size > 0;
+    uint64_t intact_end = 0;
+    if (exists) {
+        LibraryReader existing(path);
+        if (run_hash(existing.header()) != run_hash(header))
+            throw LibraryError(path + ": holds another run (different scene, parameters, codec bounds or base seed; run " +
+                               run_hash(existing.header()) + ", expected " + run_hash(header) + ")");
+        for (const StoredWorld& w : existing.worlds()) existing_.push_back(w.world_index);
+        for (const StoredRejection& r : existing.rejections()) existing_.push_back(r.world_index);
+        std::sort(existing_.begin(), existing_.end());
+        intact_end = existing.file_size() - existing.pending_tail_bytes();
+        if (existing.pending_tail_bytes() > 0)
+            repairs_.push_back(path + ": cut off an incomplete last record of " +
+                               std::to_string(existing.pending_tail_bytes()) + " bytes at byte " + std::to_string(intact_end));
+    }
+    fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0) fail(path, "cannot open for writing");
+    // One writer per file: a second one would interleave records.
+    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+        ::close(fd_);
+        fd_ = -1;
+        throw LibraryError(path + ": another process is writing this library");
+    }
+    if (exists) {
+        if (::ftruncate(fd_, static_cast<off_t>(intact_end)) != 0) fail(path, "cannot cut off the torn record");
+    } else {
+        write_all(fd_, file_prologue(header), path);
+        if (::fdatasync(fd_) != 0) fail(path, "flush failed");
+    }
+    if (::lseek(fd_, 0, SEEK_END) < 0) fail(path, "seek failed");
+}
+
+LibraryWriter::~LibraryWriter() {
+    if (fd_ >= 0) ::close(fd_);
+}
+
+void LibraryWriter::append(const WorldResult& world) {
+    if (world.status == WorldStatus::Ok) {
+        append_record(kRecordTypeWorld, kWorldRecordVersion, encode_world_record(world, header_.bounds, gravity_));
+    } else if (world.status == WorldStatus::Rejected) {
+        append_record(kRecordTypeRejection, kRejectionRecordVersion, encode_rejection_record(world));
+    }
+}
+
+void LibraryWriter::append_record(uint32_t type, uint32_t version, const std::vector<uint8_t>& payload) {
+    if (payload.size() > kMaxRecordPayloadBytes) throw LibraryError(path_ + ": record too large");
+    ByteWriter out;
+    out.put(kRecordMagic);
+    out.put(type);
+    out.put(version);
+    out.put(static_cast<uint32_t>(payload.size()));
+    const uint32_t crc = crc32_of(payload.data(), payload.size(), crc32_of(out.bytes().data() + 4, 12));
+    out.put(crc);
+    out.put_bytes(payload.data(), payload.size());
+    // One write per record: an interruption leaves at most this record incomplete.
+    write_all(fd_, out.bytes(), path_);
+    if (::fdatasync(fd_) != 0) fail(path_, "flush failed");
+}
+
+}  // namespace mwb

@@ -1,0 +1,42 @@
+#pragma once
+// Appends worlds to a library file so that killing the writer at any instant loses at most the
+// world being written. Not thread-safe: one writer per file, one thread at a time.
+#include <string>
+#include <vector>
+
+#include "library/RunHeader.h"
+#include "sim/WorldResult.h"
+
+namespace mwb {
+
+class LibraryWriter {
+public:
+    /// Creates `path` with `header`, or, if it exists, opens it for appending after checking that
+    /// it holds the same run (its run hash) and cutting off a torn last record left by a crash.
+    /// Throws LibraryError with the path and reason otherwise.
+    LibraryWriter(const std::string& path, const RunHeader& header);
+    ~LibraryWriter();
+    LibraryWriter(const LibraryWriter&) = delete;
+    LibraryWriter& operator=(const LibraryWriter&) = delete;
+
+    /// Stores an Ok world as a world record or a Rejected one as a rejection record; ignores
+    /// Cancelled worlds. Returns after the record reached the file and was flushed to the disk.
+    void append(const WorldResult& world);
+    /// Appends a record exactly as given (merging copies records byte for byte).
+    void append_record(uint32_t type, uint32_t version, const std::vector<uint8_t>& payload);
+
+    /// Worlds already in the file when it was opened (for appending more later).
+    const std::vector<uint64_t>& existing_world_indices() const { return existing_; }
+    /// What opening an existing file had to repair (a torn last record), for the user.
+    const std::vector<std::string>& repairs() const { return repairs_; }
+
+private:
+    std::string path_;
+    RunHeader header_;
+    Vec3 gravity_;
+    int fd_ = -1;
+    std::vector<uint64_t> existing_;
+    std::vector<std::string> repairs_;
+};
+
+}  // namespace mwb

@@ -1,0 +1,27 @@
+#pragma once
+// What a library file says about the run that produced it: the scene, the parameters, the codec
+// bounds and the base seed. Files can be merged only when these agree (their run hash).
+#include <cstdint>
+#include <string>
+
+#include "codec/CodecFormat.h"
+#include "sim/SimulationParameters.h"
+
+namespace mwb {
+
+struct RunHeader {
+    std::string scene_json;  ///< the engine's scene JSON, verbatim
+    SimulationParameters parameters;
+    CodecBounds bounds;
+    uint64_t base_seed = 0;
+};
+
+std::string run_header_to_json(const RunHeader& header);
+/// Throws LibraryError naming `where` when the JSON is malformed or lacks a field.
+RunHeader run_header_from_json(const std::string& text, const std::string& where);
+/// 16 hex digits identifying (scene, parameters, bounds, base seed); equal for shards of one run.
+std::string run_hash(const RunHeader& header);
+/// 16 hex digits identifying the scene alone.
+std::string scene_hash(const RunHeader& header);
+
+}  // namespace mwb

@@ -1,0 +1,55 @@
+#pragma once
+// A world as stored in a library file: compressed tracks plus everything metrics and refinement
+// need. Decoding lives here; encoding is in WorldRecordEncoder.h so readers never pull in the
+// motion encoders.
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "query/BodyMetrics.h"
+#include "sim/WorldResult.h"
+
+namespace mwb {
+
+/// Record payload layout version for worlds; bumped when the layout changes, never reused.
+constexpr uint32_t kWorldRecordVersion = 1;
+constexpr uint32_t kRejectionRecordVersion = 1;
+
+/// One body's compressed motion (codec track formats) in a stored world.
+struct StoredTrack {
+    uint32_t body = 0;  ///< scene body index
+    std::vector<uint8_t> position;
+    std::vector<uint8_t> rotation;
+    double rest_time_s = 0;
+};
+
+struct StoredWorld {
+    uint64_t world_index = 0;
+    uint64_t seed = 0;
+    int64_t parent_world = -1;   ///< refined worlds: the world they branch from
+    double branch_time_s = 0;    ///< refined worlds: where they leave the parent
+    double record_hz = 120;
+    double step_hz = 240;
+    uint32_t first_frame = 0;
+    uint32_t frame_count = 0;
+    uint32_t scene_body_count = 0;
+    double simulated_time_s = 0;
+    uint32_t impacts_perturbed = 0;
+    std::vector<StoredTrack> tracks;  ///< all bodies, or only the changed ones for refined worlds
+    std::vector<ContactEvent> contacts;
+    std::vector<Checkpoint> checkpoints;
+    std::vector<MetricValues> metrics;  ///< per_body aligned with tracks
+};
+
+struct StoredRejection {
+    uint64_t world_index = 0;
+    uint64_t seed = 0;
+    std::string reason;
+};
+
+/// Parses a world record payload; throws LibraryError (naming `where`) on any inconsistency.
+StoredWorld decode_world_record(const uint8_t* data, size_t size, const std::string& where);
+StoredRejection decode_rejection_record(const uint8_t* data, size_t size, const std::string& where);
+
+}  // namespace mwb

@@ -1,0 +1,60 @@
+#include "library/WorldRecordEncoder.h"
+
+#include "codec/PositionEncoder.h"
+#include "codec/RotationEncoder.h"
+#include "library/ByteIO.h"
+#include "library/CheckpointBlock.h"
+
+namespace mwb {
+
+std::vector<uint8_t> encode_world_record(const WorldResult& world, const CodecBounds& bounds, const Vec3& gravity) {
+    ByteWriter out;
+    out.put(world.world_index);
+    out.put(world.seed);
+    out.put(int64_t{-1});
+    out.put(0.0);
+    out.put(world.record_hz);
+    out.put(world.step_hz);
+    out.put(world.first_frame);
+    out.put(world.frame_count);
+    out.put(world.body_count);
+    out.put(world.simulated_time_s);
+    out.put(world.impacts_perturbed);
+    out.put(world.body_count);  // track count: every body
+    const size_t frames = world.frame_count;
+    for (uint32_t b = 0; b < world.body_count; ++b) {
+        out.put(b);
+        out.put_blob(encode_position_track(&world.positions_m[b * frames * 3], world.frame_count, 1.0 / world.record_hz,
+                                           gravity, bounds.position_error_max_m));
+        out.put_blob(encode_rotation_track(&world.orientations[b * frames * 4], world.frame_count,
+                                           bounds.rotation_error_max_rad));
+        out.put(world.rest_time_s[b]);
+    }
+    out.put(static_cast<uint32_t>(world.contacts.size()));
+    for (const ContactEvent& e : world.contacts) {
+        out.put(e.time_s);
+        out.put(e.body);
+        out.put(e.other);
+        out.put(e.impulse_ns);
+    }
+    const uint32_t joint_count = world.checkpoints.empty() ? 0u : static_cast<uint32_t>(world.checkpoints[0].joint_broken.size());
+    write_checkpoints(out, world.checkpoints, world.body_count, joint_count);
+    const std::vector<MetricValues> metrics = compute_body_metrics(world);
+    out.put(static_cast<uint32_t>(metrics.size()));
+    for (const MetricValues& m : metrics) {
+        out.put_string(m.name);
+        out.put(static_cast<uint32_t>(m.per_body.size()));
+        for (double v : m.per_body) out.put(v);
+    }
+    return std::move(out.bytes());
+}
+
+std::vector<uint8_t> encode_rejection_record(const WorldResult& world) {
+    ByteWriter out;
+    out.put(world.world_index);
+    out.put(world.seed);
+    out.put_string(world.reject_reason);
+    return std::move(out.bytes());
+}
+
+}  // namespace mwb

@@ -1,0 +1,46 @@
+#pragma once
+// Samples many worlds in parallel (OpenMP) and hands each to the caller as soon as it finishes.
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "sim/CompiledScene.h"
+#include "sim/WorldResult.h"
+
+namespace mwb {
+
+struct SamplingStatistics {
+    uint64_t worlds_ok = 0;
+    uint64_t worlds_rejected = 0;
+    uint64_t worlds_cancelled = 0;
+    std::map<std::string, uint64_t> reject_reasons;  ///< reason -> count
+    double wall_time_s = 0;
+};
+
+/// Progress a caller on another thread may read while a run goes on.
+struct SamplingProgress {
+    std::atomic<uint64_t> worlds_done{0};
+    std::atomic<bool> cancel{false};
+};
+
+/// Called once per finished world (Ok, Rejected or Cancelled), from a worker thread, never
+/// concurrently with itself; worlds arrive in completion order, not index order.
+using WorldSink = std::function<void(WorldResult&&)>;
+
+/// Simulates worlds [first_world, first_world + world_count) of the run seeded by `base_seed` on
+/// `threads` threads (<= 0: all cores). Each world is a pure function of (scene, parameters,
+/// base_seed, index), whatever the thread count or order. Setting progress->cancel stops every
+/// world at its next recorded frame; worlds finished before then are delivered intact.
+SamplingStatistics sample_worlds(const CompiledScene& compiled, uint64_t base_seed, uint64_t first_world,
+                                 uint64_t world_count, int threads, const WorldSink& sink,
+                                 SamplingProgress* progress = nullptr);
+
+/// The same for an explicit list of world indices (e.g. the ones a library does not hold yet).
+SamplingStatistics sample_world_list(const CompiledScene& compiled, uint64_t base_seed,
+                                     const std::vector<uint64_t>& world_indices, int threads, const WorldSink& sink,
+                                     SamplingProgress* progress = nullptr);
+
+}  // namespace mwb

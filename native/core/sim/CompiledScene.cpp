@@ -1,0 +1,203 @@
+#include "sim/CompiledScene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "geometry/ConvexHull.h"
+#include "geometry/MassProperties.h"
+#include "scene/SceneJson.h"
+#include "scene/SceneValidation.h"
+
+namespace mwb {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kConeSegments = 24;
+
+Transform compose(const Transform& parent, const Transform& child) {
+    return {add(parent.location, quat_rotate(parent.rotation, child.location)),
+            quat_normalized(quat_multiply(parent.rotation, child.rotation))};
+}
+
+// Flat (n, 3) points of `shape` placed by `placement` and shifted so `frame_origin` becomes 0.
+std::vector<double> place_points(const std::vector<double>& xyz, const Transform& placement,
+                                 const Vec3& frame_origin) {
+    std::vector<double> out(xyz.size());
+    for (size_t i = 0; i + 2 < xyz.size(); i += 3) {
+        const Vec3 p = sub(add(placement.location, quat_rotate(placement.rotation, {xyz[i], xyz[i + 1], xyz[i + 2]})),
+                           frame_origin);
+        out[i] = p[0];
+        out[i + 1] = p[1];
+        out[i + 2] = p[2];
+    }
+    return out;
+}
+
+std::vector<double> cone_points(double radius, double height) {
+    std::vector<double> points{0, 0, height / 2};
+    for (int i = 0; i < kConeSegments; ++i) {
+        const double a = 2 * kPi * i / kConeSegments;
+        points.insert(points.end(), {radius * std::cos(a), radius * std::sin(a), -height / 2});
+    }
+    return points;
+}
+
+// Bullet-style collision margin: pushes hull points outward from their centroid.
+void inflate_points(std::vector<double>& xyz, double margin) {
+    Vec3 centroid{0, 0, 0};
+    const size_t n = xyz.size() / 3;
+    for (size_t i = 0; i < n; ++i) centroid = add(centroid, {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]});
+    centroid = scale(centroid, 1.0 / static_cast<double>(n));
+    for (size_t i = 0; i < n; ++i) {
+        const Vec3 d = sub({xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]}, centroid);
+        const double len = norm(d);
+        if (len <= 0) continue;
+        for (int k = 0; k < 3; ++k) xyz[3 * i + k] += d[k] / len * margin;
+    }
+}
+
+CollisionPart convex_part(std::vector<double> points) {
+    const ConvexHull hull = compute_convex_hull(points);
+    CollisionPart part;
+    part.kind = PartKind::Convex;
+    for (const Vec3& p : hull.points) part.convex_points.insert(part.convex_points.end(), p.begin(), p.end());
+    for (const auto& plane : hull.planes) part.convex_planes.insert(part.convex_planes.end(), plane.begin(), plane.end());
+    for (const auto& face : hull.faces) {
+        part.convex_polygons.push_back(static_cast<unsigned int>(face.size()));
+        part.convex_polygons.insert(part.convex_polygons.end(), face.begin(), face.end());
+    }
+    part.convex_point_count = static_cast<unsigned int>(hull.points.size());
+    part.convex_plane_count = static_cast<unsigned int>(hull.planes.size());
+    return part;
+}
+
+double part_bounding_radius(const CollisionPart& part) {
+    const double center = norm(part.offset.location);
+    switch (part.kind) {
+        case PartKind::Box: return center + norm(part.half_extents_m);
+        case PartKind::Sphere: return center + part.radius_m;
+        case PartKind::Capsule: return center + part.radius_m + part.length_m / 2;
+        case PartKind::Cylinder: return center + std::hypot(part.radius_m, part.length_m / 2);
+        case PartKind::Convex:
+        case PartKind::TriangleMesh: {
+            const auto& xyz = part.kind == PartKind::Convex ? part.convex_points : part.mesh_vertices;
+            double r = 0;
+            for (size_t i = 0; i + 2 < xyz.size(); i += 3)
+                r = std::max(r, norm({xyz[i], xyz[i + 1], xyz[i + 2]}));
+            return r;
+        }
+    }
+    return center;
+}
+
+void compile_shape(const Shape& shape, const Transform& placement, const Body& body, CompiledBody& out) {
+    const double margin = body.use_margin ? body.collision_margin_m : 0.0;
+    const Vec3& origin = out.body_frame_offset_m;
+    CollisionPart part;
+    part.offset = {sub(placement.location, origin), placement.rotation};
+    switch (shape.type) {
+        case ShapeType::Box:
+            part.kind = PartKind::Box;
+            part.half_extents_m = add(shape.half_extents_m, {margin, margin, margin});
+            break;
+        case ShapeType::Sphere:
+            part.kind = PartKind::Sphere;
+            part.radius_m = shape.radius_m + margin;
+            break;
+        case ShapeType::Capsule:
+            part.kind = PartKind::Capsule;
+            part.radius_m = shape.radius_m + margin;
+            part.length_m = std::max(0.0, shape.height_m - 2 * shape.radius_m);
+            break;
+        case ShapeType::Cylinder:
+            part.kind = PartKind::Cylinder;
+            part.radius_m = shape.radius_m + margin;
+            part.length_m = shape.height_m + 2 * margin;
+            break;
+        case ShapeType::Cone:
+        case ShapeType::ConvexHull: {
+            std::vector<double> local = shape.type == ShapeType::Cone ? cone_points(shape.radius_m, shape.height_m)
+                                                                      : shape.vertices_m;
+            if (margin > 0) inflate_points(local, margin);
+            part = convex_part(place_points(local, placement, origin));
+            break;
+        }
+        case ShapeType::Mesh:
+            part.kind = PartKind::TriangleMesh;
+            part.mesh_vertices = place_points(shape.vertices_m, placement, origin);
+            part.mesh_indices = shape.triangles;
+            out.has_mesh = true;
+            break;
+        case ShapeType::Compound:
+            for (const Shape& child : shape.children) compile_shape(child, compose(placement, child.offset), body, out);
+            return;
+    }
+    out.parts.push_back(std::move(part));
+}
+
+CompiledBody compile_body(const Body& body) {
+    CompiledBody out;
+    out.kinematic = body.kinematic;
+    out.dynamic = body.type == BodyType::Active && body.enabled && !body.kinematic;
+    if (out.dynamic) {
+        const MassProperties mass = compute_mass_properties(body.shape, body.mass_kg);
+        out.body_frame_offset_m = body.has_center_of_mass ? body.center_of_mass_local_m : mass.center_of_mass_m;
+        out.inertia = mass.inertia;
+    }
+    compile_shape(body.shape, Transform{}, body, out);
+    for (const CollisionPart& part : out.parts)
+        out.bounding_radius_m = std::max(out.bounding_radius_m, part_bounding_radius(part));
+    return out;
+}
+
+std::vector<std::string> validate_parameters(const SimulationParameters& p) {
+    std::vector<std::string> problems;
+    auto require = [&](bool ok, const char* field, const char* rule) {
+        if (!ok) problems.push_back(std::string("parameters.") + field + ": " + rule);
+    };
+    require(std::isfinite(p.duration_s), "duration_s", "must be finite");
+    require(p.min_step_hz > 0 && std::isfinite(p.min_step_hz), "min_step_hz", "must be > 0");
+    require(p.record_hz > 0 && std::isfinite(p.record_hz), "record_hz", "must be > 0");
+    require(p.alpha_linear >= 0 && p.alpha_linear <= 1, "alpha_linear", "must be in [0, 1]");
+    require(p.alpha_angular >= 0 && p.alpha_angular <= 1, "alpha_angular", "must be in [0, 1]");
+    require(p.lobe_exponent >= 0 && std::isfinite(p.lobe_exponent), "lobe_exponent", "must be >= 0");
+    require(p.impact_linear_factor > 0, "impact_linear_factor", "must be > 0");
+    require(p.impact_angular_factor > 0, "impact_angular_factor", "must be > 0");
+    require(p.rest_duration_s >= 0, "rest_duration_s", "must be >= 0");
+    require(p.checkpoint_interval_s > 0, "checkpoint_interval_s", "must be > 0");
+    require(p.max_speed_mps > 0 && p.max_distance_m > 0, "max_speed_mps/max_distance_m", "must be > 0");
+    return problems;
+}
+
+}  // namespace
+
+CompiledScene::CompiledScene(Scene scene, const SimulationParameters& parameters)
+    : scene_(std::move(scene)), parameters_(parameters) {
+    std::vector<std::string> problems = validate_scene(scene_);
+    for (std::string& p : validate_parameters(parameters_)) problems.push_back(std::move(p));
+    if (!problems.empty()) {
+        std::ostringstream message;
+        for (size_t i = 0; i < problems.size(); ++i) message << (i ? "\n" : "") << problems[i];
+        throw SceneError(message.str());
+    }
+    for (const Body& body : scene_.bodies) {
+        try {
+            bodies_.push_back(compile_body(body));
+        } catch (const GeometryError& error) {
+            throw SceneError("body '" + body.name + "'.shape: " + error.what());
+        }
+    }
+    const WorldSettings& world = scene_.world;
+    const double wanted_hz = std::max(parameters_.min_step_hz, world.fps * world.substeps_per_frame);
+    steps_per_frame_ = static_cast<uint32_t>(std::max(1.0, std::ceil(wanted_hz / parameters_.record_hz - 1e-9)));
+    step_hz_ = parameters_.record_hz * steps_per_frame_;
+    duration_s_ = parameters_.duration_s > 0 ? parameters_.duration_s
+                                             : (world.frame_end - world.frame_start) / world.fps;
+    total_steps_ = static_cast<uint64_t>(std::llround(duration_s_ * parameters_.record_hz)) * steps_per_frame_;
+    steps_per_checkpoint_ = std::max<uint64_t>(
+        steps_per_frame_,
+        static_cast<uint64_t>(std::llround(parameters_.checkpoint_interval_s * parameters_.record_hz)) * steps_per_frame_);
+}
+
+}  // namespace mwb

@@ -1,0 +1,70 @@
+#pragma once
+// A scene prepared once per run for fast world construction: validated, shapes flattened into
+// collision parts with hulls computed, mass properties and stepping rates derived. Read-only and
+// shared by all worlds of a run on all threads.
+#include <cstdint>
+#include <vector>
+
+#include "scene/Scene.h"
+#include "sim/SimulationParameters.h"
+
+namespace mwb {
+
+enum class PartKind { Box, Sphere, Capsule, Cylinder, Convex, TriangleMesh };
+
+/// One collision geometry of a body, in the body's frame (centre of mass for dynamic bodies,
+/// object origin otherwise). Convex and TriangleMesh data are already in that frame.
+struct CollisionPart {
+    PartKind kind = PartKind::Box;
+    Vec3 half_extents_m{0, 0, 0};
+    double radius_m = 0;
+    double length_m = 0;  ///< Capsule: cylinder part only (ODE's convention); Cylinder: full
+    Transform offset;     ///< primitives only
+    std::vector<double> convex_points;          ///< (n, 3)
+    std::vector<double> convex_planes;          ///< (f, 4)
+    std::vector<unsigned int> convex_polygons;  ///< ODE layout: count, indices..., per face
+    unsigned int convex_plane_count = 0, convex_point_count = 0;
+    std::vector<double> mesh_vertices;   ///< (n, 3)
+    std::vector<uint32_t> mesh_indices;  ///< (m, 3)
+};
+
+struct CompiledBody {
+    bool dynamic = false;    ///< simulated: ACTIVE, enabled and not animated
+    bool kinematic = false;  ///< follows its animation track
+    Vec3 body_frame_offset_m{0, 0, 0};  ///< centre of mass in the object frame (0 if not dynamic)
+    std::array<double, 9> inertia{};    ///< about the centre of mass, object axes, for mass_kg
+    double bounding_radius_m = 0;       ///< of all parts about the body frame origin
+    std::vector<CollisionPart> parts;
+    bool has_mesh = false;
+};
+
+class CompiledScene {
+public:
+    /// Validates and prepares `scene`. Throws SceneError naming every problem.
+    CompiledScene(Scene scene, const SimulationParameters& parameters);
+
+    const Scene& scene() const { return scene_; }
+    const SimulationParameters& parameters() const { return parameters_; }
+    const std::vector<CompiledBody>& bodies() const { return bodies_; }
+
+    /// Simulation steps per second of animation time (a multiple of record_hz).
+    double step_hz() const { return step_hz_; }
+    /// Physics time advanced per step, seconds (animation step × Blender's time scale).
+    double physics_dt_s() const { return scene_.world.time_scale / step_hz_; }
+    uint32_t steps_per_frame() const { return steps_per_frame_; }
+    uint64_t total_steps() const { return total_steps_; }
+    uint64_t steps_per_checkpoint() const { return steps_per_checkpoint_; }
+    double duration_s() const { return duration_s_; }
+
+private:
+    Scene scene_;
+    SimulationParameters parameters_;
+    std::vector<CompiledBody> bodies_;
+    double step_hz_ = 240;
+    uint32_t steps_per_frame_ = 2;
+    uint64_t total_steps_ = 0;
+    uint64_t steps_per_checkpoint_ = 120;
+    double duration_s_ = 0;
+};
+
+}  // namespace mwb

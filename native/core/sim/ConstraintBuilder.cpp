@@ -1,0 +1,136 @@
+// Maps Blender's rigid-body constraint types onto ODE joints. Blender measures hinge angles and
+// slider positions from the pose at the start of the simulation, as ODE does from joint creation.
+#include <cmath>
+
+#include "sim/WorldBuilder.h"
+
+namespace mwb {
+namespace {
+
+// ODE parameter ids of axis 1, 2, 3 differ by dParamGroup.
+int axis_param(int base, int axis) { return base + dParamGroup * axis; }
+
+void set_limits(dJointID joint, void (*set)(dJointID, int, dReal), int axis, bool enabled, double lower, double upper) {
+    if (!enabled) return;
+    // ODE ignores stops with lo > hi; set hi first so a raised lo is accepted.
+    set(joint, axis_param(dParamHiStop, axis), upper);
+    set(joint, axis_param(dParamLoStop, axis), lower);
+}
+
+// A spring of stiffness k and damping c on a stop at rest position 0: ODE expresses it through
+// the stop's ERP and CFM for step h (ERP = hk/(hk+c), CFM = 1/(hk+c)).
+void set_spring(dJointID joint, void (*set)(dJointID, int, dReal), int axis, double k, double c, double h) {
+    const double denominator = h * k + c;
+    set(joint, axis_param(dParamHiStop, axis), 0);
+    set(joint, axis_param(dParamLoStop, axis), 0);
+    set(joint, axis_param(dParamStopERP, axis), h * k / denominator);
+    set(joint, axis_param(dParamStopCFM, axis), 1.0 / denominator);
+}
+
+void set_motor(dJointID joint, void (*set)(dJointID, int, dReal), double velocity, double max_impulse, double h) {
+    set(joint, dParamVel, velocity);
+    set(joint, dParamFMax, max_impulse / h);
+}
+
+}  // namespace
+
+void OdeWorld::create_constraint(size_t constraint_index) {
+    const Scene& scene = compiled_.scene();
+    const Constraint& c = scene.constraints[constraint_index];
+    const int ia = scene.body_index(c.body_a);
+    const int ib = scene.body_index(c.body_b);
+    dBodyID a = ia >= 0 ? bodies_[ia] : nullptr;
+    dBodyID b = ib >= 0 ? bodies_[ib] : nullptr;
+    if (!a && !b) return;  // both static: nothing can move
+    if (!a) std::swap(a, b);
+    const Vec3& p = c.frame.location;
+    const Vec3 x_axis = quat_rotate(c.frame.rotation, {1, 0, 0});
+    const Vec3 z_axis = quat_rotate(c.frame.rotation, {0, 0, 1});
+    const double h = compiled_.physics_dt_s();
+    JointGroup& group = joint_groups_[constraint_index];
+    auto add_joint = [&](dJointID joint) {
+        dJointAttach(joint, a, b);
+        group.joints.push_back(joint);
+        return joint;
+    };
+    switch (c.type) {
+        case ConstraintType::Fixed: {
+            dJointID j = add_joint(dJointCreateFixed(world_, nullptr));
+            dJointSetFixed(j);
+            break;
+        }
+        case ConstraintType::Point: {
+            dJointID j = add_joint(dJointCreateBall(world_, nullptr));
+            dJointSetBallAnchor(j, p[0], p[1], p[2]);
+            break;
+        }
+        case ConstraintType::Hinge: {
+            dJointID j = add_joint(dJointCreateHinge(world_, nullptr));
+            dJointSetHingeAnchor(j, p[0], p[1], p[2]);
+            dJointSetHingeAxis(j, z_axis[0], z_axis[1], z_axis[2]);
+            set_limits(j, dJointSetHingeParam, 0, c.angular_limits.enabled[2], c.angular_limits.lower[2],
+                       c.angular_limits.upper[2]);
+            break;
+        }
+        case ConstraintType::Slider: {
+            dJointID j = add_joint(dJointCreateSlider(world_, nullptr));
+            dJointSetSliderAxis(j, x_axis[0], x_axis[1], x_axis[2]);
+            set_limits(j, dJointSetSliderParam, 0, c.linear_limits.enabled[0], c.linear_limits.lower[0],
+                       c.linear_limits.upper[0]);
+            break;
+        }
+        case ConstraintType::Piston: {
+            dJointID j = add_joint(dJointCreatePiston(world_, nullptr));
+            dJointSetPistonAnchor(j, p[0], p[1], p[2]);
+            dJointSetPistonAxis(j, x_axis[0], x_axis[1], x_axis[2]);
+            set_limits(j, dJointSetPistonParam, 0, c.linear_limits.enabled[0], c.linear_limits.lower[0],
+                       c.linear_limits.upper[0]);
+            set_limits(j, dJointSetPistonParam, 1, c.angular_limits.enabled[0], c.angular_limits.lower[0],
+                       c.angular_limits.upper[0]);
+            break;
+        }
+        case ConstraintType::Generic:
+        case ConstraintType::GenericSpring: {
+            // Validation guarantees locked linear axes: a ball joint plus an Euler angular motor
+            // carrying the angular limits and springs.
+            dJointID ball = add_joint(dJointCreateBall(world_, nullptr));
+            dJointSetBallAnchor(ball, p[0], p[1], p[2]);
+            dJointID motor = add_joint(dJointCreateAMotor(world_, nullptr));
+            dJointSetAMotorMode(motor, dAMotorEuler);
+            dJointSetAMotorAxis(motor, 0, 1, x_axis[0], x_axis[1], x_axis[2]);
+            dJointSetAMotorAxis(motor, 2, b ? 2 : 0, z_axis[0], z_axis[1], z_axis[2]);
+            for (int axis = 0; axis < 3; ++axis) {
+                const bool spring = c.type == ConstraintType::GenericSpring && c.angular_springs.enabled[axis];
+                if (c.angular_limits.enabled[axis]) {
+                    set_limits(motor, dJointSetAMotorParam, axis, true, c.angular_limits.lower[axis],
+                               c.angular_limits.upper[axis]);
+                } else if (spring) {
+                    set_spring(motor, dJointSetAMotorParam, axis, c.angular_springs.stiffness[axis],
+                               c.angular_springs.damping[axis], h);
+                }
+            }
+            break;
+        }
+        case ConstraintType::Motor: {
+            if (c.motor_angular_enabled) {
+                dJointID j = add_joint(dJointCreateAMotor(world_, nullptr));
+                dJointSetAMotorNumAxes(j, 1);
+                dJointSetAMotorAxis(j, 0, 1, x_axis[0], x_axis[1], x_axis[2]);
+                set_motor(j, dJointSetAMotorParam, c.motor_angular_target_velocity, c.motor_angular_max_impulse, h);
+            }
+            if (c.motor_linear_enabled) {
+                dJointID j = add_joint(dJointCreateLMotor(world_, nullptr));
+                dJointSetLMotorNumAxes(j, 1);
+                dJointSetLMotorAxis(j, 0, 1, x_axis[0], x_axis[1], x_axis[2]);
+                set_motor(j, dJointSetLMotorParam, c.motor_linear_target_velocity, c.motor_linear_max_impulse, h);
+            }
+            break;
+        }
+    }
+    if (c.breakable && !group.joints.empty()) {
+        group.feedback = std::make_unique<dJointFeedback>();
+        dJointSetFeedback(group.joints.front(), group.feedback.get());
+    }
+}
+
+}  // namespace mwb

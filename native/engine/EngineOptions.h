@@ -1,0 +1,38 @@
+#pragma once
+// Command line of the mwb-engine executable: the process that samples worlds for Blender and
+// for farm tasks, so ODE never runs inside Blender's process for bulk work.
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "codec/CodecFormat.h"
+#include "sim/SimulationParameters.h"
+
+namespace mwb {
+
+/// A user mistake on the command line; main prints the message on one line and exits with 2.
+struct UsageError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+struct EngineOptions {
+    std::string command;  ///< sample | info | merge | validate
+    std::string scene_path;
+    std::string output_path;
+    std::vector<std::string> inputs;
+    uint64_t base_seed = 0;
+    uint64_t first_world = 0;
+    uint64_t world_count = 16;
+    int threads = 0;
+    bool json = false;
+    bool progress = false;
+    SimulationParameters parameters;
+    CodecBounds bounds;
+};
+
+/// Parses argv; throws UsageError with a one-line message.
+EngineOptions parse_engine_options(const std::vector<std::string>& args);
+const char* engine_usage();
+
+}  // namespace mwb

@@ -1,0 +1,170 @@
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <map>
+
+#include "codec/CodecError.h"
+#include "library/ByteIO.h"
+#include "library/LibraryReader.h"
+#include "library/WorldDecoding.h"
+
+namespace py = pybind11;
+
+namespace mwb::python {
+namespace {
+
+// A library opened for browsing: worlds stay compressed in memory and decode on demand.
+class PyLibrary {
+public:
+    explicit PyLibrary(const std::string& path) : reader_(path) { index_new_worlds(0); }
+
+    size_t poll() {
+        const size_t before = reader_.worlds().size();
+        size_t added;
+        {
+            py::gil_scoped_release release;
+            added = reader_.poll();
+        }
+        index_new_worlds(before);
+        return added;
+    }
+
+    const StoredWorld& world(uint64_t world_index) const {
+        const auto it = by_index_.find(world_index);
+        if (it == by_index_.end()) throw py::key_error("no world " + std::to_string(world_index) + " in " + reader_.path());
+        return reader_.worlds()[it->second];
+    }
+
+    const LibraryReader& reader() const { return reader_; }
+
+private:
+    void index_new_worlds(size_t from) {
+        for (size_t k = from; k < reader_.worlds().size(); ++k) by_index_[reader_.worlds()[k].world_index] = k;
+    }
+
+    LibraryReader reader_;
+    std::map<uint64_t, size_t> by_index_;
+};
+
+py::array_t<double> as_array(std::vector<double>&& data, std::vector<py::ssize_t> shape) {
+    py::array_t<double> out(shape);
+    std::copy(data.begin(), data.end(), out.mutable_data());
+    return out;
+}
+
+py::dict header_dict(const RunHeader& h) {
+    py::dict d;
+    d["scene_json"] = h.scene_json;
+    d["base_seed"] = h.base_seed;
+    d["position_error_max_m"] = h.bounds.position_error_max_m;
+    d["rotation_error_max_rad"] = h.bounds.rotation_error_max_rad;
+    d["scene_hash"] = scene_hash(h);
+    d["run_hash"] = run_hash(h);
+    d["parameters"] = py::cast(h.parameters);
+    return d;
+}
+
+}  // namespace
+
+void bind_library(py::module_& m) {
+    py::register_exception<LibraryError>(m, "LibraryError", PyExc_IOError);
+    py::register_exception<CodecError>(m, "CodecError", PyExc_ValueError);
+
+    py::class_<PyLibrary>(m, "Library", "A .mwb library file: run header, worlds (compressed in memory), rejections.")
+        .def(py::init<const std::string&>(), py::arg("path"), py::call_guard<py::gil_scoped_release>())
+        .def_property_readonly("path", [](const PyLibrary& l) { return l.reader().path(); })
+        .def_property_readonly("header", [](const PyLibrary& l) { return header_dict(l.reader().header()); })
+        .def_property_readonly("warnings", [](const PyLibrary& l) { return l.reader().warnings(); })
+        .def_property_readonly("file_bytes", [](const PyLibrary& l) { return l.reader().file_size(); })
+        .def_property_readonly("world_indices",
+                               [](const PyLibrary& l) {
+                                   std::vector<uint64_t> ids;
+                                   for (const StoredWorld& w : l.reader().worlds()) ids.push_back(w.world_index);
+                                   return ids;
+                               },
+                               "world indices in file order")
+        .def_property_readonly("rejections",
+                               [](const PyLibrary& l) {
+                                   py::list out;
+                                   for (const StoredRejection& r : l.reader().rejections())
+                                       out.append(py::make_tuple(r.world_index, r.seed, r.reason));
+                                   return out;
+                               },
+                               "list of (world_index, seed, reason)")
+        .def("poll", &PyLibrary::poll, "Read worlds appended since the last read; returns how many arrived.")
+        .def("frame_count", [](const PyLibrary& l, uint64_t w) { return l.world(w).frame_count; }, py::arg("world"))
+        .def("positions",
+             [](const PyLibrary& l, uint64_t w) {
+                 const StoredWorld& world = l.world(w);
+                 std::vector<double> data;
+                 {
+                     py::gil_scoped_release release;
+                     data = decode_world_positions(world);
+                 }
+                 return as_array(std::move(data), {static_cast<py::ssize_t>(world.tracks.size()), world.frame_count, 3});
+             },
+             py::arg("world"), "float64 (bodies, frames, 3): decoded object origins, metres")
+        .def("orientations",
+             [](const PyLibrary& l, uint64_t w) {
+                 const StoredWorld& world = l.world(w);
+                 std::vector<double> data;
+                 {
+                     py::gil_scoped_release release;
+                     data = decode_world_orientations(world);
+                 }
+                 return as_array(std::move(data), {static_cast<py::ssize_t>(world.tracks.size()), world.frame_count, 4});
+             },
+             py::arg("world"), "float64 (bodies, frames, 4): decoded unit quaternions (w, x, y, z)")
+        .def("pose",
+             [](const PyLibrary& l, uint64_t w, size_t body, uint32_t frame) {
+                 const Transform t = decode_pose(l.world(w), body, frame);
+                 return py::make_tuple(t.location, t.rotation);
+             },
+             py::arg("world"), py::arg("body"), py::arg("frame"),
+             "(location, quaternion) of one body at one frame, decoding only that body's track")
+        .def("rest_times",
+             [](const PyLibrary& l, uint64_t w) {
+                 std::vector<double> out;
+                 for (const StoredTrack& t : l.world(w).tracks) out.push_back(t.rest_time_s);
+                 return out;
+             },
+             py::arg("world"))
+        .def("contacts",
+             [](const PyLibrary& l, uint64_t w) {
+                 py::list out;
+                 for (const ContactEvent& e : l.world(w).contacts) out.append(py::make_tuple(e.time_s, e.body, e.other, e.impulse_ns));
+                 return out;
+             },
+             py::arg("world"), "list of (time_s, body, other, impulse_ns)")
+        .def("metrics",
+             [](const PyLibrary& l, uint64_t w) {
+                 py::dict out;
+                 for (const MetricValues& m : l.world(w).metrics) out[py::str(m.name)] = m.per_body;
+                 return out;
+             },
+             py::arg("world"), "metric name -> per-body values")
+        .def("world_info", [](const PyLibrary& l, uint64_t w) {
+            const StoredWorld& world = l.world(w);
+            py::dict d;
+            d["seed"] = world.seed;
+            d["parent_world"] = world.parent_world;
+            d["branch_time_s"] = world.branch_time_s;
+            d["record_hz"] = world.record_hz;
+            d["first_frame"] = world.first_frame;
+            d["frame_count"] = world.frame_count;
+            d["simulated_time_s"] = world.simulated_time_s;
+            d["impacts_perturbed"] = world.impacts_perturbed;
+            d["checkpoint_count"] = world.checkpoints.size();
+            size_t bytes = 0;
+            for (const StoredTrack& t : world.tracks) bytes += t.position.size() + t.rotation.size();
+            d["motion_bytes"] = bytes;
+            return d;
+        }, py::arg("world"));
+
+    m.def("merge_libraries", &merge_libraries, py::arg("inputs"), py::arg("output"),
+          py::call_guard<py::gil_scoped_release>(),
+          "Merge libraries of one run into a new file; returns warnings. Raises LibraryError on mismatch or collisions.");
+}
+
+}  // namespace mwb::python
