@@ -215,6 +215,7 @@ TEST(PositionCodec, RejectsInvalidInput) {
     EXPECT_THROW(encode_position_track(xyz.data(), 5, kDt, kGravity, NAN), std::invalid_argument);
     EXPECT_THROW(encode_position_track(xyz.data(), 5, 0.0, kGravity, 1e-3), std::invalid_argument);
     EXPECT_THROW(encode_position_track(nullptr, 5, kDt, kGravity, 1e-3), std::invalid_argument);
+    EXPECT_THROW(encode_position_track(xyz.data(), 5, kDt, {0, 0, NAN}, 1e-3), std::invalid_argument);
     xyz[7] = INFINITY;
     EXPECT_THROW(encode_position_track(xyz.data(), 5, kDt, kGravity, 1e-3), std::invalid_argument);
 }

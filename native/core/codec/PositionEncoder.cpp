@@ -7,13 +7,13 @@
 
 #include "codec/BitWriter.h"
 #include "codec/CodecFormat.h"
-#include "codec/RiceCode.h"
 #include "codec/SegmentFitting.h"
 
 namespace mwb {
 namespace {
 
-// A step of at most a quarter of the bound leaves most of the error budget to the fit itself.
+// A step of at most half the bound costs at most 0.43 of the bound in rounding (half a step on
+// each axis), leaving the rest to the fit; finer steps cost more bits than they save in segments.
 constexpr double kStepFraction = 0.5;
 // The encoder aims slightly under the bound so that a build that rounds the reconstruction
 // formula differently (e.g. with fused multiply-add) still decodes within it.
@@ -148,20 +148,6 @@ std::vector<SegmentFit> plan_segments(const PositionInput& input, const Vec3& st
     return segments;
 }
 
-int step_exponent_for(double error_max_m) {
-    if (!std::isfinite(error_max_m) || error_max_m <= 0) {
-        throw std::invalid_argument("encode_position_track: error_max_m must be positive and finite");
-    }
-    int exponent = 0;
-    // frexp gives error_max * fraction = m * 2^exponent with m in [0.5, 1).
-    std::frexp(error_max_m * kStepFraction, &exponent);
-    --exponent;
-    if (exponent < kMinStepExponent || exponent > kMaxStepExponent) {
-        throw std::invalid_argument("encode_position_track: error_max_m out of range");
-    }
-    return exponent;
-}
-
 PositionInput make_input(const double* xyz_m, uint32_t frame_count, double frame_dt_s,
                          const Vec3& gravity_m_s2, double error_max_m, int exponent) {
     if (frame_count > 0 && xyz_m == nullptr) {
@@ -169,6 +155,9 @@ PositionInput make_input(const double* xyz_m, uint32_t frame_count, double frame
     }
     if (!std::isfinite(frame_dt_s) || frame_dt_s <= 0) {
         throw std::invalid_argument("encode_position_track: frame_dt_s must be positive and finite");
+    }
+    if (!std::isfinite(norm(gravity_m_s2))) {
+        throw std::invalid_argument("encode_position_track: gravity must be finite");
     }
     for (size_t i = 0; i < 3 * size_t{frame_count}; ++i) {
         if (!std::isfinite(xyz_m[i])) {
@@ -190,44 +179,26 @@ PositionInput make_input(const double* xyz_m, uint32_t frame_count, double frame
     return input;
 }
 
-void write_start_key(BitWriter& writer, const StartKey& key, const PositionInput& input) {
+void write_start_key(BitWriter& writer, const StartKey& key) {
     writer.write_bit(key.raw);
-    for (int k = 0; k < 3; ++k) {
-        if (key.raw) {
-            writer.write_double(input_frame(input, 0)[k]);
-        } else {
-            write_sized_uint(writer, zigzag_encode(key.steps[k]));
-        }
-    }
+    if (!key.raw) return write_start_steps(writer, key.steps);
+    for (double value : key.position_m) writer.write_double(value);
 }
 
 void write_segments(BitWriter& writer, const std::vector<SegmentFit>& segments,
                     uint32_t frame_count, bool any_gravity) {
-    AdaptiveRice lengths(kLengthRiceInitialK);
-    AdaptiveRice residuals[3] = {AdaptiveRice(kResidualRiceInitialK),
-                                 AdaptiveRice(kResidualRiceInitialK),
-                                 AdaptiveRice(kResidualRiceInitialK)};
-    SegmentSteps previous{};
-    uint32_t previous_length = 1;
+    FitSegmentWriter fit_writer;
     uint32_t frame = 0;
     for (const SegmentFit& segment : segments) {
         frame += segment.length;
         writer.write_bit(segment.raw);
         if (segment.raw) {
             for (double value : segment.end_m) writer.write_double(value);
-            previous = {};
-            previous_length = 1;
+            fit_writer.reset_prediction();
             continue;
         }
         if (any_gravity) writer.write_bit(segment.gravity);
-        const bool last = frame + 1 == frame_count;
-        writer.write_bit(last);
-        if (!last) lengths.write_unsigned(writer, segment.length - 1);
-        const SegmentSteps predicted =
-            predict_segment_steps(previous, previous_length, segment.length);
-        for (int k = 0; k < 3; ++k) residuals[k].write_signed(writer, segment.steps[k] - predicted[k]);
-        previous = segment.steps;
-        previous_length = segment.length;
+        fit_writer.write(writer, frame + 1 == frame_count, segment.length, segment.steps);
     }
 }
 
@@ -236,14 +207,12 @@ void write_segments(BitWriter& writer, const std::vector<SegmentFit>& segments,
 std::vector<uint8_t> encode_position_track(const double* xyz_m, uint32_t frame_count,
                                            double frame_dt_s, const Vec3& gravity_m_s2,
                                            double error_max_m) {
-    const int exponent = step_exponent_for(error_max_m);
+    const int exponent = step_exponent_for(error_max_m, kStepFraction);
     const PositionInput input =
         make_input(xyz_m, frame_count, frame_dt_s, gravity_m_s2, error_max_m, exponent);
 
     BitWriter writer;
-    writer.write_bits(kPositionTrackFormatV1, 8);
-    write_sized_uint(writer, frame_count);
-    writer.write_bits(static_cast<uint64_t>(exponent + kStepExponentBias), 8);
+    write_track_header(writer, kPositionTrackFormatV1, frame_count, exponent);
     if (frame_count == 0) {
         writer.write_bit(false);
         return writer.take_bytes();
@@ -260,7 +229,7 @@ std::vector<uint8_t> encode_position_track(const double* xyz_m, uint32_t frame_c
             if (value != 0) writer.write_float(static_cast<float>(value));
         }
     }
-    write_start_key(writer, start, input);
+    write_start_key(writer, start);
     write_segments(writer, segments, frame_count, any_gravity);
     return writer.take_bytes();
 }

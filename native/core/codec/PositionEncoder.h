@@ -12,10 +12,10 @@ namespace mwb {
 /// Compresses `frame_count` positions `xyz_m` (flat (frame_count, 3), metres) recorded every
 /// `frame_dt_s` seconds. Every frame decodes within `error_max_m` of the input, measured as the
 /// Euclidean 3D distance. `gravity_m_s2` (e.g. (0, 0, -9.81)) is the only quadratic term a segment
-/// may use. The quantization step is the largest power of two not above error_max_m / 4.
-/// Throws std::invalid_argument when a position is not finite, `frame_dt_s` or `error_max_m` is
-/// not positive and finite, or `error_max_m` is outside [2^-98, 2^42] m. `xyz_m` may be null when
-/// `frame_count` is 0. Thread-safe (no shared state).
+/// may use. The quantization step is the largest power of two not above error_max_m / 2.
+/// Throws std::invalid_argument when a position or gravity is not finite, `frame_dt_s` or
+/// `error_max_m` is not positive and finite, or `error_max_m` is outside [2^-99, 2^42) m.
+/// `xyz_m` may be null when `frame_count` is 0. Thread-safe (no shared state).
 std::vector<uint8_t> encode_position_track(const double* xyz_m, uint32_t frame_count,
                                            double frame_dt_s, const Vec3& gravity_m_s2,
                                            double error_max_m);

@@ -2,12 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
 
 #include "codec/BitReader.h"
 #include "codec/CodecError.h"
-#include "codec/RiceCode.h"
+#include "codec/TrackReading.h"
 
 namespace mwb {
 namespace {
@@ -24,30 +23,9 @@ Quat read_unit_quaternion(BitReader& reader) {
     return q;
 }
 
-uint32_t read_frame_count(BitReader& reader) {
-    const uint64_t count = read_sized_uint(reader);
-    if (count > std::numeric_limits<uint32_t>::max()) throw CodecError("frame count too large");
-    return static_cast<uint32_t>(count);
-}
-
-double read_step(BitReader& reader) {
-    const int exponent = static_cast<int>(reader.read_bits(8)) - kStepExponentBias;
-    if (exponent < kMinStepExponent || exponent > kMaxStepExponent) {
-        throw CodecError("quantization step out of range");
-    }
-    return std::ldexp(1.0, exponent);
-}
-
 Quat read_start(BitReader& reader, double step_rad) {
     if (reader.read_bit()) return read_unit_quaternion(reader);
-    SegmentSteps steps{};
-    for (int64_t& value : steps) {
-        value = zigzag_decode(read_sized_uint(reader));
-        if (value > kMaxStartSteps || value < -kMaxStartSteps) {
-            throw CodecError("start rotation out of range");
-        }
-    }
-    return rotation_from_steps(steps, step_rad);
+    return rotation_from_steps(read_start_steps(reader), step_rad);
 }
 
 }  // namespace
@@ -56,53 +34,24 @@ RotationTrackDecoder::RotationTrackDecoder(const uint8_t* data, size_t size) { p
 
 void RotationTrackDecoder::parse(const uint8_t* data, size_t size) {
     BitReader reader(data, size);
-    if (reader.read_bits(8) != kRotationTrackFormatV1) {
-        throw CodecError("not a rotation track of a supported format version");
-    }
-    frame_count_ = read_frame_count(reader);
-    step_rad_ = read_step(reader);
+    const TrackHeader header = read_track_header(reader, kRotationTrackFormatV1);
+    frame_count_ = header.frame_count;
+    step_rad_ = header.step;
     if (frame_count_ > 0) start_ = read_start(reader, step_rad_);
 
-    AdaptiveRice lengths(kLengthRiceInitialK);
-    AdaptiveRice residuals[3] = {AdaptiveRice(kResidualRiceInitialK),
-                                 AdaptiveRice(kResidualRiceInitialK),
-                                 AdaptiveRice(kResidualRiceInitialK)};
-    SegmentSteps previous{};
-    uint32_t previous_length = 1;
+    FitSegmentReader fit_reader;
     Quat rotation = start_;
     // Each segment covers at least one frame, so the loop ends after at most frame_count - 1
     // rounds, and each round consumes input, so a corrupted count cannot make it spin.
     for (uint32_t frame = 0; frame + 1 < frame_count_;) {
-        const uint32_t remaining = frame_count_ - 1 - frame;
         Segment segment{frame, 1, reader.read_bit(), {}, rotation};
         if (segment.raw) {
             segment.origin = read_unit_quaternion(reader);
-            previous = {};
-            previous_length = 1;
+            fit_reader.reset_prediction();
         } else {
-            if (reader.read_bit()) {
-                segment.length = remaining;
-            } else {
-                const uint64_t length_minus_one = lengths.read_unsigned(reader);
-                if (length_minus_one >= remaining) throw CodecError("segment runs past the track");
-                segment.length = static_cast<uint32_t>(length_minus_one) + 1;
-            }
-            if (segment.length > kMaxSegmentFrames) throw CodecError("segment too long");
-            const SegmentSteps predicted =
-                predict_segment_steps(previous, previous_length, segment.length);
-            for (int k = 0; k < 3; ++k) {
-                const int64_t residual = residuals[k].read_signed(reader);
-                // Bounding the residual first keeps the sum from overflowing.
-                if (residual > 2 * kMaxSegmentSteps || residual < -2 * kMaxSegmentSteps) {
-                    throw CodecError("segment steps out of range");
-                }
-                segment.steps[k] = predicted[k] + residual;
-                if (segment.steps[k] > kMaxSegmentSteps || segment.steps[k] < -kMaxSegmentSteps) {
-                    throw CodecError("segment steps out of range");
-                }
-            }
-            previous = segment.steps;
-            previous_length = segment.length;
+            const FitSegment fit = fit_reader.read(reader, frame_count_ - 1 - frame);
+            segment.length = fit.length;
+            segment.steps = fit.steps;
         }
         segments_.push_back(segment);
         rotation = evaluate(segment, segment.length);

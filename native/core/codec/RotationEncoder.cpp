@@ -7,14 +7,14 @@
 
 #include "codec/BitWriter.h"
 #include "codec/CodecFormat.h"
-#include "codec/RiceCode.h"
 #include "codec/RotationMath.h"
 #include "codec/SegmentFitting.h"
 
 namespace mwb {
 namespace {
 
-// A step of at most a quarter of the bound leaves most of the error budget to the fit itself.
+// A step of at most half the bound costs at most 0.43 of the bound in rounding (half a step on
+// each axis), leaving the rest to the fit; finer steps cost more bits than they save in segments.
 constexpr double kStepFraction = 0.5;
 // The encoder aims slightly under the bound so that a build that rounds the reconstruction
 // formula differently (e.g. with fused multiply-add) still decodes within it.
@@ -147,21 +147,6 @@ std::vector<SegmentFit> plan_segments(const RotationInput& input, const Quat& st
     return segments;
 }
 
-int step_exponent_for(double error_max_rad) {
-    if (!std::isfinite(error_max_rad) || error_max_rad <= 0) {
-        throw std::invalid_argument(
-            "encode_rotation_track: error_max_rad must be positive and finite");
-    }
-    int exponent = 0;
-    // frexp gives error_max * fraction = m * 2^exponent with m in [0.5, 1).
-    std::frexp(error_max_rad * kStepFraction, &exponent);
-    --exponent;
-    if (exponent < kMinStepExponent || exponent > kMaxStepExponent) {
-        throw std::invalid_argument("encode_rotation_track: error_max_rad out of range");
-    }
-    return exponent;
-}
-
 RotationInput make_input(const double* wxyz, uint32_t frame_count, double error_max_rad,
                          int exponent) {
     if (frame_count > 0 && wxyz == nullptr) {
@@ -188,39 +173,23 @@ RotationInput make_input(const double* wxyz, uint32_t frame_count, double error_
 
 void write_start_key(BitWriter& writer, const StartKey& key) {
     writer.write_bit(key.raw);
-    if (key.raw) {
-        for (double value : key.rotation) writer.write_double(value);
-        return;
-    }
-    for (int64_t steps : key.steps) write_sized_uint(writer, zigzag_encode(steps));
+    if (!key.raw) return write_start_steps(writer, key.steps);
+    for (double value : key.rotation) writer.write_double(value);
 }
 
 void write_segments(BitWriter& writer, const std::vector<SegmentFit>& segments,
                     uint32_t frame_count) {
-    AdaptiveRice lengths(kLengthRiceInitialK);
-    AdaptiveRice residuals[3] = {AdaptiveRice(kResidualRiceInitialK),
-                                 AdaptiveRice(kResidualRiceInitialK),
-                                 AdaptiveRice(kResidualRiceInitialK)};
-    SegmentSteps previous{};
-    uint32_t previous_length = 1;
+    FitSegmentWriter fit_writer;
     uint32_t frame = 0;
     for (const SegmentFit& segment : segments) {
         frame += segment.length;
         writer.write_bit(segment.raw);
         if (segment.raw) {
             for (double value : segment.end) writer.write_double(value);
-            previous = {};
-            previous_length = 1;
+            fit_writer.reset_prediction();
             continue;
         }
-        const bool last = frame + 1 == frame_count;
-        writer.write_bit(last);
-        if (!last) lengths.write_unsigned(writer, segment.length - 1);
-        const SegmentSteps predicted =
-            predict_segment_steps(previous, previous_length, segment.length);
-        for (int k = 0; k < 3; ++k) residuals[k].write_signed(writer, segment.steps[k] - predicted[k]);
-        previous = segment.steps;
-        previous_length = segment.length;
+        fit_writer.write(writer, frame + 1 == frame_count, segment.length, segment.steps);
     }
 }
 
@@ -228,13 +197,11 @@ void write_segments(BitWriter& writer, const std::vector<SegmentFit>& segments,
 
 std::vector<uint8_t> encode_rotation_track(const double* wxyz, uint32_t frame_count,
                                            double error_max_rad) {
-    const int exponent = step_exponent_for(error_max_rad);
+    const int exponent = step_exponent_for(error_max_rad, kStepFraction);
     const RotationInput input = make_input(wxyz, frame_count, error_max_rad, exponent);
 
     BitWriter writer;
-    writer.write_bits(kRotationTrackFormatV1, 8);
-    write_sized_uint(writer, frame_count);
-    writer.write_bits(static_cast<uint64_t>(exponent + kStepExponentBias), 8);
+    write_track_header(writer, kRotationTrackFormatV1, frame_count, exponent);
     if (frame_count == 0) return writer.take_bytes();
     const StartKey start = make_start_key(input);
     write_start_key(writer, start);

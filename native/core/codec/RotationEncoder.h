@@ -12,8 +12,8 @@ namespace mwb {
 /// `error_max_rad` of the input, measured as the angle of the relative rotation. A segment from
 /// the decoded key Q0 over L frames decodes frame j as exp(j / L * w) * Q0, w a world-frame
 /// rotation vector. The quantization step is the largest power of two not above
-/// error_max_rad / 4. Throws std::invalid_argument when a quaternion is not finite or has norm
-/// below 1e-6, or `error_max_rad` is not positive and finite or outside [2^-98, 2^42] rad.
+/// error_max_rad / 2. Throws std::invalid_argument when a quaternion is not finite or has norm
+/// below 1e-6, or `error_max_rad` is not positive and finite or outside [2^-99, 2^42) rad.
 /// `wxyz` may be null when `frame_count` is 0. Thread-safe (no shared state).
 std::vector<uint8_t> encode_rotation_track(const double* wxyz, uint32_t frame_count,
                                            double error_max_rad);

@@ -8,7 +8,7 @@ namespace {
 // Far above any real block (a 1000-body world checkpointed every 0.5 s for 10 min is ~150 MB);
 // refuses absurd sizes from corrupted headers before allocating.
 constexpr uint64_t kMaxInflatedBytes = uint64_t{1} << 30;
-constexpr size_t kBodyStateBytes = 13 * sizeof(double) + sizeof(double);
+constexpr size_t kBodyStateBytes = 14 * sizeof(double) + sizeof(int32_t);
 
 void put_vec(ByteWriter& out, const double* v, int n) {
     for (int k = 0; k < n; ++k) out.put(v[k]);
@@ -37,6 +37,7 @@ void write_checkpoints(ByteWriter& out, const std::vector<Checkpoint>& checkpoin
             put_vec(raw, s.linear_velocity.data(), 3);
             put_vec(raw, s.angular_velocity.data(), 3);
             raw.put(c.body_rest_since_s[i]);
+            raw.put(c.body_impact_partner[i]);
         }
         for (uint32_t j = 0; j < joint_count; ++j) raw.put(c.joint_broken[j]);
     }
@@ -71,6 +72,7 @@ std::vector<Checkpoint> read_checkpoints(ByteReader& in) {
         for (uint64_t& word : c.perturbation_random_state) word = raw.get<uint64_t>();
         c.bodies.resize(body_count);
         c.body_rest_since_s.resize(body_count);
+        c.body_impact_partner.resize(body_count);
         for (uint32_t i = 0; i < body_count; ++i) {
             BodyState& s = c.bodies[i];
             get_vec(raw, s.position_m.data(), 3);
@@ -78,6 +80,7 @@ std::vector<Checkpoint> read_checkpoints(ByteReader& in) {
             get_vec(raw, s.linear_velocity.data(), 3);
             get_vec(raw, s.angular_velocity.data(), 3);
             c.body_rest_since_s[i] = raw.get<double>();
+            c.body_impact_partner[i] = raw.get<int32_t>();
         }
         c.joint_broken.resize(joint_count);
         for (uint32_t j = 0; j < joint_count; ++j) c.joint_broken[j] = raw.get<uint8_t>();

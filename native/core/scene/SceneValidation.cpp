@@ -259,9 +259,9 @@ void check_bodies(const Scene& scene, std::vector<std::string>& problems) {
 void check_limits(Checker& check, const std::string& field, const AxisLimits& limits) {
     for (int k = 0; k < 3; ++k) {
         const std::string axis = axis_suffix(k);
-        const bool finite = check.finite(field + ".lower" + axis, limits.lower[k]) &
-                            check.finite(field + ".upper" + axis, limits.upper[k]);
-        if (finite && limits.enabled[k] && limits.lower[k] > limits.upper[k])
+        const bool lower_finite = check.finite(field + ".lower" + axis, limits.lower[k]);
+        const bool upper_finite = check.finite(field + ".upper" + axis, limits.upper[k]);
+        if (lower_finite && upper_finite && limits.enabled[k] && limits.lower[k] > limits.upper[k])
             check.fail(field + ".lower" + axis, "(" + format_number(limits.lower[k]) + ") is greater than " + field +
                                                     ".upper" + axis + " (" + format_number(limits.upper[k]) + ")");
     }

@@ -153,6 +153,8 @@ void OdeWorld::create_geoms(size_t body_index) {
                 dGeomTriMeshDataBuildDouble(data, part.mesh_vertices.data(), 3 * sizeof(double),
                                             static_cast<int>(part.mesh_vertices.size() / 3), part.mesh_indices.data(),
                                             static_cast<int>(part.mesh_indices.size()), 3 * sizeof(uint32_t));
+                // Convex-vs-mesh collisions (libccd) need the face angles.
+                dGeomTriMeshDataPreprocess2(data, 1u << dTRIDATAPREPROCESS_BUILD_FACE_ANGLES, nullptr);
                 geom = dCreateTriMesh(space_, data, nullptr, nullptr, nullptr);
                 break;
             }

@@ -11,7 +11,9 @@
 
 namespace mwb {
 
-/// A significant impact on one body (the same threshold as perturbation).
+/// A collision of one body: the first step of a run of steps whose velocity change beyond gravity
+/// exceeds the impact thresholds while touching something, or a step where it starts touching
+/// another body during such a run. Each is perturbed once.
 struct ContactEvent {
     double time_s = 0;
     int32_t body = -1;     ///< scene body index of the body whose velocity jumped
@@ -35,7 +37,12 @@ struct Checkpoint {
     uint64_t ode_random_state = 0;         ///< ODE's constraint-ordering generator
     std::array<uint64_t, 4> perturbation_random_state{};
     std::vector<double> body_rest_since_s; ///< per body, -1 when moving
+    /// Per body: the partner of the impact under way in the previous step, kNoImpact if none.
+    std::vector<int32_t> body_impact_partner;
 };
+
+/// body_impact_partner value of a body that was not in an impact in the previous step.
+constexpr int32_t kNoImpact = -2;
 
 enum class WorldStatus { Ok, Rejected, Cancelled };
 

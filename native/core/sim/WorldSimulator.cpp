@@ -83,6 +83,7 @@ public:
         result_.body_count = static_cast<uint32_t>(compiled.bodies().size());
         const size_t n = compiled.bodies().size();
         rest_since_s_.assign(n, -1.0);
+        impact_partner_.assign(n, kNoImpact);
         previous_linear_.resize(n);
         previous_angular_.resize(n);
         // The same solver ordering for every world: worlds differ only by their initial states and
@@ -104,6 +105,7 @@ public:
         ode_random_state_ = checkpoint.ode_random_state;
         perturbation_random_ = PortableRandom(checkpoint.perturbation_random_state);
         rest_since_s_ = checkpoint.body_rest_since_s;
+        impact_partner_ = checkpoint.body_impact_partner;
         first_frame_ = static_cast<uint32_t>(step_ / compiled_.steps_per_frame());
     }
 
@@ -259,10 +261,16 @@ private:
         const Vec3 delta_w = sub(w, previous_angular_[i]);
         // Only collisions are impacts: joint and motor forces also change velocities but are not
         // events an observer would judge, and perturbing them would add noise to every chain.
-        const bool touched = deepest_partner_[i].first >= 0;
+        const int32_t partner = deepest_partner_[i].first;
+        const bool touched = partner >= 0;
         const bool linear_impact = touched && norm(delta_v) > impact_linear_threshold_;
         const bool angular_impact = touched && norm(delta_w) > impact_angular_threshold_;
-        if (linear_impact || angular_impact) {
+        // Rolling and sliding keep velocities changing step after step; that is one collision,
+        // not one per step. A new collision starts after a quiet step or with a new partner.
+        const bool significant = linear_impact || angular_impact;
+        const bool new_collision = significant && impact_partner_[i] != partner;
+        impact_partner_[i] = significant ? partner : kNoImpact;
+        if (new_collision) {
             result_.contacts.push_back({t_after, static_cast<int32_t>(i), deepest_partner_[i].first,
                                         world_->initial_states()[i].mass_kg * norm(delta_v)});
             if (p.perturb) {
@@ -346,6 +354,7 @@ private:
         c.ode_random_state = ode_random_state_;
         c.perturbation_random_state = perturbation_random_.state();
         c.body_rest_since_s = rest_since_s_;
+        c.body_impact_partner = impact_partner_;
         result_.checkpoints.push_back(std::move(c));
     }
 
@@ -393,6 +402,7 @@ private:
     double impact_linear_threshold_ = 0;
     double impact_angular_threshold_ = 0;
     std::vector<double> rest_since_s_;
+    std::vector<int32_t> impact_partner_;
     std::vector<Vec3> previous_linear_, previous_angular_;
     std::vector<std::pair<int32_t, double>> deepest_partner_;
     std::vector<Transform> frames_;

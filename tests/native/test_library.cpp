@@ -1,0 +1,289 @@
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include "SceneFixtures.h"
+#include "library/ByteIO.h"
+#include "library/LibraryFormat.h"
+#include "library/LibraryReader.h"
+#include "library/LibraryWriter.h"
+#include "library/WorldDecoding.h"
+#include "sampler/Sampler.h"
+#include "scene/SceneJson.h"
+#include "sim/PortableRandom.h"
+#include "sim/WorldSimulator.h"
+
+namespace mwb {
+namespace {
+
+namespace fs = std::filesystem;
+
+class Library : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() / ("mwb_library_test_" + std::to_string(::getpid()) + "_" +
+                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+
+    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+
+    static RunHeader header_for(const Scene& scene, uint64_t base_seed = 9) {
+        return RunHeader{scene_to_json(scene), SimulationParameters{}, CodecBounds{}, base_seed};
+    }
+
+    // Samples worlds [first, first + count) of `scene` into `file`; returns them as simulated.
+    static std::map<uint64_t, WorldResult> sample_into(const std::string& file, const Scene& scene, uint64_t first,
+                                                       uint64_t count, int threads = 2) {
+        const RunHeader header = header_for(scene);
+        CompiledScene compiled(scene, header.parameters);
+        LibraryWriter writer(file, header);
+        std::map<uint64_t, WorldResult> worlds;
+        sample_worlds(compiled, header.base_seed, first, count, threads, [&](WorldResult&& w) {
+            writer.append(w);
+            worlds.emplace(w.world_index, std::move(w));
+        });
+        return worlds;
+    }
+
+    static std::vector<uint8_t> read_all(const std::string& file) {
+        std::ifstream in(file, std::ios::binary);
+        return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
+    }
+    static void write_all(const std::string& file, const std::vector<uint8_t>& bytes) {
+        std::ofstream out(file, std::ios::binary | std::ios::trunc);
+        out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    }
+
+    fs::path dir_;
+};
+
+TEST_F(Library, DecodedMotionStaysWithinTheCodecBoundsForEveryBodyAndFrame) {
+    for (const Scene& scene : {fixtures::mesh_ramp_with_joints(), fixtures::pile(20, 48)}) {
+        const std::string file = path(scene.name + ".mwb");
+        const auto simulated = sample_into(file, scene, 0, 4);
+        const LibraryReader reader(file);
+        ASSERT_EQ(reader.worlds().size(), 4u);
+        EXPECT_TRUE(reader.warnings().empty());
+        const CodecBounds bounds = reader.header().bounds;
+        for (const StoredWorld& stored : reader.worlds()) {
+            const WorldResult& original = simulated.at(stored.world_index);
+            ASSERT_EQ(stored.frame_count, original.frame_count);
+            const std::vector<double> positions = decode_world_positions(stored);
+            const std::vector<double> orientations = decode_world_orientations(stored);
+            double worst_position = 0, worst_angle = 0;
+            for (size_t k = 0; k < positions.size() / 3; ++k) {
+                const Vec3 d{positions[3 * k] - original.positions_m[3 * k], positions[3 * k + 1] - original.positions_m[3 * k + 1],
+                             positions[3 * k + 2] - original.positions_m[3 * k + 2]};
+                worst_position = std::max(worst_position, norm(d));
+                const Quat a{orientations[4 * k], orientations[4 * k + 1], orientations[4 * k + 2], orientations[4 * k + 3]};
+                const Quat b{original.orientations[4 * k], original.orientations[4 * k + 1], original.orientations[4 * k + 2],
+                             original.orientations[4 * k + 3]};
+                worst_angle = std::max(worst_angle, quat_angle_between(a, b));
+            }
+            EXPECT_LE(worst_position, bounds.position_error_max_m) << scene.name;
+            EXPECT_LE(worst_angle, bounds.rotation_error_max_rad) << scene.name;
+            EXPECT_GT(worst_position, 0.0) << "lossy coding actually happened";
+            // Everything else round-trips exactly.
+            ASSERT_EQ(stored.contacts.size(), original.contacts.size());
+            for (size_t k = 0; k < stored.contacts.size(); ++k) EXPECT_EQ(stored.contacts[k].time_s, original.contacts[k].time_s);
+            ASSERT_EQ(stored.checkpoints.size(), original.checkpoints.size());
+            EXPECT_EQ(stored.checkpoints.back().bodies.back().orientation, original.checkpoints.back().bodies.back().orientation);
+            EXPECT_EQ(stored.tracks.back().rest_time_s, original.rest_time_s.back());
+        }
+    }
+}
+
+TEST_F(Library, RandomAccessPoseEqualsTheFullDecode) {
+    const std::string file = path("ramp.mwb");
+    sample_into(file, fixtures::mesh_ramp_with_joints(), 0, 1);
+    const LibraryReader reader(file);
+    const StoredWorld& world = reader.worlds().front();
+    const std::vector<double> positions = decode_world_positions(world);
+    for (size_t track : {size_t{6}, world.tracks.size() - 1}) {
+        for (uint32_t frame : {0u, 1u, world.frame_count / 2, world.frame_count - 1}) {
+            const Transform pose = decode_pose(world, track, frame);
+            const double* p = &positions[(track * world.frame_count + frame) * 3];
+            EXPECT_EQ(pose.location, (Vec3{p[0], p[1], p[2]}));
+        }
+    }
+}
+
+TEST_F(Library, RejectedWorldsAreCountedWithTheirReasonAndNeverStoredAsWorlds) {
+    Scene scene = fixtures::ball_on_plane();
+    scene.bodies[1].variation.linear_velocity_min = {0, 0, -900};
+    scene.bodies[1].variation.linear_velocity_max = {0, 0, 0};
+    const std::string file = path("mixed.mwb");
+    const auto simulated = sample_into(file, scene, 0, 12);
+    size_t rejected = 0;
+    for (const auto& [index, w] : simulated) rejected += w.status == WorldStatus::Rejected;
+    ASSERT_GT(rejected, 0u);
+    const LibraryReader reader(file);
+    EXPECT_EQ(reader.rejections().size(), rejected);
+    EXPECT_EQ(reader.worlds().size(), 12 - rejected);
+    EXPECT_NE(reader.rejections().front().reason.find("exploded"), std::string::npos);
+}
+
+TEST_F(Library, TruncationAnywhereKeepsEveryCompleteRecord) {
+    const std::string file = path("full.mwb");
+    sample_into(file, fixtures::pile(6, 24), 0, 3, 1);
+    const std::vector<uint8_t> bytes = read_all(file);
+    const LibraryReader full(file, true);
+    ASSERT_EQ(full.raw_records().size(), 3u);
+    const uint64_t header_end = full.raw_records().front().offset;
+    const std::string cut = path("cut.mwb");
+    // Every length from just past the header to the end, in steps that hit every record boundary.
+    for (uint64_t length = header_end; length <= bytes.size(); length += 97) {
+        write_all(cut, std::vector<uint8_t>(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(length)));
+        const LibraryReader reader(cut);
+        size_t complete = 0;
+        for (const RawRecord& r : full.raw_records())
+            complete += r.offset + kRecordHeaderBytes + r.payload.size() <= length;
+        ASSERT_EQ(reader.worlds().size(), complete) << "length " << length;
+        const bool torn = reader.pending_tail_bytes() > 0;
+        EXPECT_EQ(torn, !reader.warnings().empty()) << "a torn tail is reported, length " << length;
+        if (torn) EXPECT_NE(reader.warnings().front().find("incomplete"), std::string::npos);
+    }
+}
+
+TEST_F(Library, BitFlipsNeverCrashAndOnlyTheDamagedRecordIsLost) {
+    const std::string file = path("full.mwb");
+    sample_into(file, fixtures::pile(6, 24), 0, 4, 1);
+    const std::vector<uint8_t> bytes = read_all(file);
+    const LibraryReader full(file, true);
+    const uint64_t header_end = full.raw_records().front().offset;
+    PortableRandom random(77);
+    const std::string damaged = path("damaged.mwb");
+    for (int trial = 0; trial < 300; ++trial) {
+        std::vector<uint8_t> copy = bytes;
+        const size_t at = header_end + static_cast<size_t>(random.uniform01() * static_cast<double>(bytes.size() - header_end));
+        copy[at] ^= static_cast<uint8_t>(1u << (random.next_u64() % 8));
+        write_all(damaged, copy);
+        const LibraryReader reader(damaged);
+        EXPECT_EQ(reader.worlds().size(), 3u) << "flip at byte " << at;
+        ASSERT_FALSE(reader.warnings().empty());
+        EXPECT_NE(reader.warnings().front().find("byte"), std::string::npos) << reader.warnings().front();
+    }
+}
+
+TEST_F(Library, HeaderDamageIsAClearErrorNamingTheFile) {
+    const std::string file = path("ok.mwb");
+    sample_into(file, fixtures::ball_on_plane(), 0, 1);
+    const std::vector<uint8_t> bytes = read_all(file);
+    auto expect_error = [&](std::vector<uint8_t> copy, const std::string& phrase) {
+        const std::string bad = path("bad.mwb");
+        write_all(bad, copy);
+        try {
+            LibraryReader reader(bad);
+            ADD_FAILURE() << "accepted a file that should fail with: " << phrase;
+        } catch (const LibraryError& error) {
+            EXPECT_NE(std::string(error.what()).find(bad), std::string::npos) << error.what();
+            EXPECT_NE(std::string(error.what()).find(phrase), std::string::npos) << error.what();
+        }
+    };
+    std::vector<uint8_t> magic = bytes;
+    magic[1] = 'X';
+    expect_error(magic, "not a Many-Worlds library");
+    std::vector<uint8_t> version = bytes;
+    version[8] = 99;
+    expect_error(version, "format version 99");
+    std::vector<uint8_t> header = bytes;
+    header[30] ^= 0x20;
+    expect_error(header, "checksum");
+    expect_error(std::vector<uint8_t>(bytes.begin(), bytes.begin() + 20), "truncated");
+    expect_error({}, "not a Many-Worlds library");
+}
+
+TEST_F(Library, UnknownRecordVersionsAreSkippedWithAMessage) {
+    const std::string file = path("future.mwb");
+    sample_into(file, fixtures::ball_on_plane(), 0, 1);
+    {
+        LibraryWriter writer(file, header_for(fixtures::ball_on_plane()));
+        writer.append_record(kRecordTypeWorld, 7, {1, 2, 3});
+    }
+    const LibraryReader reader(file);
+    EXPECT_EQ(reader.worlds().size(), 1u);
+    ASSERT_EQ(reader.warnings().size(), 1u);
+    EXPECT_NE(reader.warnings()[0].find("version 7"), std::string::npos) << reader.warnings()[0];
+}
+
+TEST_F(Library, AppendingAfterACrashCutsTheTornRecordAndKeepsTheRest) {
+    const Scene scene = fixtures::pile(6, 24);
+    const std::string file = path("crashed.mwb");
+    sample_into(file, scene, 0, 2, 1);
+    std::vector<uint8_t> bytes = read_all(file);
+    bytes.resize(bytes.size() - 50);  // the second record is torn
+    write_all(file, bytes);
+    LibraryWriter writer(file, header_for(scene));
+    ASSERT_EQ(writer.repairs().size(), 1u);
+    EXPECT_EQ(writer.existing_world_indices().size(), 1u);
+    CompiledScene compiled(scene, SimulationParameters{});
+    writer.append(simulate_world(compiled, 9, 5));
+    const LibraryReader reader(file);
+    EXPECT_EQ(reader.worlds().size(), 2u);
+    EXPECT_TRUE(reader.warnings().empty());
+}
+
+TEST_F(Library, AppendingToAnotherRunIsRefused) {
+    const std::string file = path("run.mwb");
+    sample_into(file, fixtures::ball_on_plane(), 0, 1);
+    EXPECT_THROW(LibraryWriter(file, header_for(fixtures::ball_on_plane(), 10)), LibraryError);
+    EXPECT_THROW(LibraryWriter(file, header_for(fixtures::ball_on_plane(3.0))), LibraryError);
+}
+
+TEST_F(Library, AReaderFollowsAFileWhileItIsWritten) {
+    const Scene scene = fixtures::pile(6, 24);
+    const std::string file = path("live.mwb");
+    CompiledScene compiled(scene, SimulationParameters{});
+    LibraryWriter writer(file, header_for(scene));
+    LibraryReader follower(file);
+    EXPECT_EQ(follower.worlds().size(), 0u);
+    writer.append(simulate_world(compiled, 9, 0));
+    EXPECT_EQ(follower.poll(), 1u);
+    // Half a record: the follower waits for the rest instead of calling it damaged.
+    const std::vector<uint8_t> before = read_all(file);
+    writer.append(simulate_world(compiled, 9, 1));
+    const std::vector<uint8_t> after = read_all(file);
+    write_all(file, std::vector<uint8_t>(after.begin(), after.begin() + static_cast<std::ptrdiff_t>(before.size() + 40)));
+    EXPECT_EQ(follower.poll(), 0u);
+    EXPECT_TRUE(follower.warnings().empty());
+    write_all(file, after);
+    EXPECT_EQ(follower.poll(), 1u);
+    EXPECT_EQ(follower.worlds().back().world_index, 1u);
+}
+
+TEST_F(Library, MergedShardsEqualOneRunOverTheWholeRange) {
+    const Scene scene = fixtures::mesh_ramp_with_joints();
+    sample_into(path("whole.mwb"), scene, 0, 6, 2);
+    sample_into(path("shard_b.mwb"), scene, 3, 3, 1);
+    sample_into(path("shard_a.mwb"), scene, 0, 3, 2);
+    merge_libraries({path("shard_b.mwb"), path("shard_a.mwb")}, path("merged.mwb"));
+    merge_libraries({path("whole.mwb")}, path("whole_sorted.mwb"));
+    EXPECT_EQ(read_all(path("merged.mwb")), read_all(path("whole_sorted.mwb")));
+}
+
+TEST_F(Library, MergeRefusesCollidingSeedsAndOtherRuns) {
+    const Scene scene = fixtures::ball_on_plane();
+    sample_into(path("a.mwb"), scene, 0, 3);
+    sample_into(path("b.mwb"), scene, 2, 3);
+    try {
+        merge_libraries({path("a.mwb"), path("b.mwb")}, path("out.mwb"));
+        FAIL() << "overlapping shards must not merge";
+    } catch (const LibraryError& error) {
+        EXPECT_NE(std::string(error.what()).find("world 2 in"), std::string::npos) << error.what();
+    }
+    EXPECT_FALSE(fs::exists(path("out.mwb")));
+    sample_into(path("other.mwb"), fixtures::ball_on_plane(3.0), 10, 1);
+    EXPECT_THROW(merge_libraries({path("a.mwb"), path("other.mwb")}, path("out.mwb")), LibraryError);
+}
+
+}  // namespace
+}  // namespace mwb
