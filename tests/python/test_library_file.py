@@ -1,0 +1,160 @@
+"""Library files written by the engine process: reading, crash safety under kill -9, following,
+merging, and the engine's command-line errors."""
+import os
+import random
+import signal
+import subprocess
+import time
+
+import numpy as np
+import pytest
+
+from conftest import SCENES, run_engine
+
+QUICKSTART = os.path.join(SCENES, "quickstart.json")
+
+
+def sample(engine, out, *extra):
+    result = run_engine(engine, "sample", "--scene", QUICKSTART, "--out", str(out), "--seed", "4", *extra)
+    assert result.returncode == 0, result.stderr
+    return result
+
+
+def test_engine_writes_a_library_the_module_reads(native, engine, tmp_path):
+    out = tmp_path / "q.mwb"
+    sample(engine, out, "--worlds", "0:6", "--threads", "2")
+    lib = native.Library(str(out))
+    assert sorted(lib.world_indices) == list(range(6))
+    assert lib.warnings == []
+    scene = native.Scene.from_json(lib.header["scene_json"])
+    w = lib.world_indices[0]
+    positions = lib.positions(w)
+    assert positions.shape == (len(scene.body_names), lib.frame_count(w), 3)
+    location, rotation = lib.pose(w, 2, lib.frame_count(w) - 1)
+    np.testing.assert_array_equal(location, positions[2, -1])
+    # The decoded motion is the sampled motion within the codec bound.
+    direct = native.sample(scene, lib.header["parameters"], 4, w, 1, threads=1)[0]
+    error = np.linalg.norm(positions - direct.positions, axis=2).max()
+    assert 0 < error <= lib.header["position_error_max_m"]
+
+
+def test_engine_run_can_be_extended_later_without_recomputing(native, engine, tmp_path):
+    out = tmp_path / "grow.mwb"
+    sample(engine, out, "--worlds", "0:3")
+    result = sample(engine, out, "--worlds", "0:5")
+    assert "skipped 3 already stored" in result.stdout
+    assert sorted(native.Library(str(out)).world_indices) == list(range(5))
+
+
+def test_kill_9_at_random_moments_never_loses_finished_worlds(native, engine, tmp_path):
+    rng = random.Random(20261122)
+    out = tmp_path / "killed.mwb"
+    whole = tmp_path / "whole.mwb"
+    sample(engine, whole, "--worlds", "0:120", "--threads", "2")
+    reference = native.Library(str(whole))
+    seen = 0
+    interrupted = 0
+    for attempt in range(12):
+        proc = subprocess.Popen([engine, "sample", "--scene", QUICKSTART, "--out", str(out), "--seed", "4",
+                                 "--worlds", "0:120", "--threads", "2"],
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        time.sleep(rng.uniform(0.0, 0.25))
+        proc.send_signal(signal.SIGKILL)
+        proc.wait()
+        if not out.exists():
+            continue
+        lib = native.Library(str(out))
+        # Every stored world is intact and equal to the uninterrupted run's.
+        assert len(lib.world_indices) >= seen
+        seen = len(lib.world_indices)
+        for w in lib.world_indices:
+            np.testing.assert_array_equal(lib.positions(w), reference.positions(w))
+        assert all("incomplete" in message for message in lib.warnings)
+        interrupted += len(lib.world_indices) < 120
+    assert interrupted >= 6, "most kills landed mid-run"
+    # Finishing the interrupted run gives the same worlds as the uninterrupted one.
+    sample(engine, out, "--worlds", "0:120")
+    final = native.Library(str(out))
+    assert sorted(final.world_indices) == list(range(120))
+    assert final.warnings == []
+
+
+def test_ctrl_c_keeps_finished_worlds(native, engine, tmp_path):
+    out = tmp_path / "interrupted.mwb"
+    proc = subprocess.Popen([engine, "sample", "--scene", QUICKSTART, "--out", str(out), "--worlds", "0:400",
+                             "--threads", "2", "--progress"], stderr=subprocess.PIPE, text=True)
+    for line in proc.stderr:
+        if line.startswith("MWB-PROGRESS 3 "):
+            proc.send_signal(signal.SIGINT)
+            break
+    proc.communicate()
+    assert proc.returncode == 130
+    lib = native.Library(str(out))
+    assert 3 <= len(lib.world_indices) < 400
+    assert lib.warnings == []
+
+
+def test_a_follower_sees_worlds_while_the_engine_writes(native, engine, tmp_path):
+    out = tmp_path / "live.mwb"
+    proc = subprocess.Popen([engine, "sample", "--scene", QUICKSTART, "--out", str(out), "--worlds", "0:40",
+                             "--threads", "1"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    while not out.exists() or out.stat().st_size == 0:
+        time.sleep(0.01)
+    time.sleep(0.05)
+    lib = native.Library(str(out))
+    counts = [len(lib.world_indices)]
+    while proc.poll() is None:
+        lib.poll()
+        counts.append(len(lib.world_indices))
+        time.sleep(0.02)
+    lib.poll()
+    counts.append(len(lib.world_indices))
+    assert counts[-1] == 40
+    assert counts[0] < 40, "the follower started before the run ended"
+    assert counts == sorted(counts)
+    assert lib.warnings == []
+
+
+def test_merged_shards_equal_one_run(native, engine, tmp_path):
+    sample(engine, tmp_path / "a.mwb", "--worlds", "0:4", "--threads", "2")
+    sample(engine, tmp_path / "b.mwb", "--worlds", "4:8", "--threads", "1")
+    sample(engine, tmp_path / "whole.mwb", "--worlds", "0:8")
+    merged = run_engine(engine, "merge", str(tmp_path / "m.mwb"), str(tmp_path / "b.mwb"), str(tmp_path / "a.mwb"))
+    assert merged.returncode == 0, merged.stderr
+    native.merge_libraries([str(tmp_path / "whole.mwb")], str(tmp_path / "w.mwb"))
+    assert (tmp_path / "m.mwb").read_bytes() == (tmp_path / "w.mwb").read_bytes()
+    # A re-run shard is byte-identical.
+    sample(engine, tmp_path / "a2.mwb", "--worlds", "0:4", "--threads", "1")
+    native.merge_libraries([str(tmp_path / "a.mwb")], str(tmp_path / "a_sorted.mwb"))
+    native.merge_libraries([str(tmp_path / "a2.mwb")], str(tmp_path / "a2_sorted.mwb"))
+    assert (tmp_path / "a_sorted.mwb").read_bytes() == (tmp_path / "a2_sorted.mwb").read_bytes()
+
+
+def test_info_reports_worlds_rejections_and_sizes(engine, tmp_path):
+    import json
+    out = tmp_path / "i.mwb"
+    sample(engine, out, "--worlds", "0:3")
+    result = run_engine(engine, "info", str(out), "--json")
+    assert result.returncode == 0
+    info = json.loads(result.stdout)
+    assert info["worlds"] == 3 and info["rejected"] == 0 and info["bodies"] == 6
+    assert 0 < info["motion_bytes_per_body_frame"] < 28
+    assert len(info["scene_hash"]) == 16
+
+
+@pytest.mark.parametrize("args,phrase", [
+    ([], "no command"),
+    (["explode"], "unknown command"),
+    (["sample", "--scene", QUICKSTART], "needs --scene and --out"),
+    (["sample", "--scene", QUICKSTART, "--out", "x.mwb", "--worlds", "5:2"], "empty range"),
+    (["sample", "--scene", QUICKSTART, "--out", "x.mwb", "--threads", "two"], "not a non-negative integer"),
+    (["sample", "--scene", "/nonexistent/scene.json", "--out", "x.mwb"], "/nonexistent/scene.json"),
+    (["info", "/nonexistent.mwb"], "/nonexistent.mwb"),
+    (["info", QUICKSTART], "not a Many-Worlds library"),
+    (["merge", "out.mwb"], "at least one input"),
+])
+def test_engine_user_mistakes_are_one_clear_line(engine, tmp_path, args, phrase):
+    result = run_engine(engine, *args, cwd=tmp_path)
+    assert result.returncode != 0
+    assert phrase in result.stderr.splitlines()[0] or phrase in result.stderr
+    assert "Traceback" not in result.stderr and "terminate" not in result.stderr
