@@ -120,6 +120,31 @@ TEST(ConvexHull, TetrahedronAndSquarePyramid) {
     expect_well_formed(pyramid, 1e-12);
 }
 
+TEST(ConvexHull, LatticesFullOfCoplanarAndCollinearPointsStayWellFormed) {
+    std::vector<double> grid;
+    for (int i = 0; i < 5; ++i)
+        for (int j = 0; j < 5; ++j)
+            for (int k = 0; k < 5; ++k) push(grid, {i * 0.25, j * 0.25, k * 0.25});
+    const ConvexHull cube = compute_convex_hull(grid);
+    EXPECT_EQ(cube.points.size(), 8u);
+    EXPECT_EQ(cube.faces.size(), 6u);
+    expect_well_formed(cube, 1e-12);
+
+    // Few distinct integer coordinates: many exact ties, duplicates and coplanar faces.
+    std::mt19937 rng(99);
+    for (int trial = 0; trial < 200; ++trial) {
+        std::vector<double> xyz;
+        const int count = 4 + static_cast<int>(rng() % 40);
+        for (int i = 0; i < count; ++i)
+            push(xyz, {static_cast<double>(rng() % 4), static_cast<double>(rng() % 4), static_cast<double>(rng() % 3)});
+        try {
+            expect_well_formed(compute_convex_hull(xyz), 1e-12);
+        } catch (const GeometryError&) {
+            // Flat or collinear draws are allowed to be refused.
+        }
+    }
+}
+
 TEST(ConvexHull, DegenerateInputsThrow) {
     EXPECT_THROW(compute_convex_hull({}), GeometryError);
     EXPECT_THROW(compute_convex_hull({0, 0, 0, 1, 0, 0, 0, 1, 0}), GeometryError);           // 3 points

@@ -53,15 +53,29 @@ Vec3 angular_velocity_between(const Quat& q0, const Quat& q1, double dt) {
 
 bool finite(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]); }
 
+intptr_t geom_index(dGeomID geom) { return reinterpret_cast<intptr_t>(dGeomGetData(geom)); }
+
+// A broad-phase pair, keyed by geom indices so it can be put in a fixed order.
+struct CandidatePair {
+    intptr_t first_index, second_index;
+    dGeomID first, second;
+    bool operator<(const CandidatePair& other) const {
+        return first_index != other.first_index ? first_index < other.first_index : second_index < other.second_index;
+    }
+};
+
 struct CandidatePairs {
-    std::vector<std::pair<dGeomID, dGeomID>> pairs;
+    std::vector<CandidatePair> pairs;
 };
 
 void collect_pair(void* data, dGeomID a, dGeomID b) {
-    static_cast<CandidatePairs*>(data)->pairs.emplace_back(a, b);
+    intptr_t ia = geom_index(a), ib = geom_index(b);
+    if (ia > ib) {
+        std::swap(ia, ib);
+        std::swap(a, b);
+    }
+    static_cast<CandidatePairs*>(data)->pairs.push_back({ia, ib, a, b});
 }
-
-intptr_t geom_index(dGeomID geom) { return reinterpret_cast<intptr_t>(dGeomGetData(geom)); }
 
 // Runs one world step by step. Contacts are generated in a fixed order (sorted geom pairs, not
 // the space's internal order, which depends on history) so a restart from a checkpoint replays
@@ -84,6 +98,11 @@ public:
         const size_t n = compiled.bodies().size();
         rest_since_s_.assign(n, -1.0);
         impact_partner_.assign(n, kNoImpact);
+        // Bullet's damping model, as Blender uses it: v *= (1 - d)^dt every step.
+        for (const Body& body : compiled.scene().bodies) {
+            linear_damping_factor_.push_back(std::pow(1.0 - body.linear_damping, compiled.physics_dt_s()));
+            angular_damping_factor_.push_back(std::pow(1.0 - body.angular_damping, compiled.physics_dt_s()));
+        }
         previous_linear_.resize(n);
         previous_angular_.resize(n);
         // The same solver ordering for every world: worlds differ only by their initial states and
@@ -151,8 +170,8 @@ private:
         const size_t n = compiled_.bodies().size();
         for (size_t i = 0; i < n; ++i) {
             if (!compiled_.bodies()[i].dynamic) continue;
-            previous_linear_[i] = world_->body_state(i).linear_velocity;
-            previous_angular_[i] = world_->body_state(i).angular_velocity;
+            previous_linear_[i] = from_ode(dBodyGetLinearVel(world_->bodies()[i]));
+            previous_angular_[i] = from_ode(dBodyGetAngularVel(world_->bodies()[i]));
         }
         {
             OdeRandomScope random_scope(ode_random_state_);
@@ -191,21 +210,16 @@ private:
     void generate_contacts() {
         candidates_.pairs.clear();
         dSpaceCollide(world_->space(), &candidates_, collect_pair);
-        for (auto& pair : candidates_.pairs)
-            if (geom_index(pair.first) > geom_index(pair.second)) std::swap(pair.first, pair.second);
-        std::sort(candidates_.pairs.begin(), candidates_.pairs.end(),
-                  [](const auto& x, const auto& y) {
-                      return std::make_pair(geom_index(x.first), geom_index(x.second)) <
-                             std::make_pair(geom_index(y.first), geom_index(y.second));
-                  });
+        std::sort(candidates_.pairs.begin(), candidates_.pairs.end());
         deepest_partner_.assign(compiled_.bodies().size(), {-1, -1.0});
-        for (const auto& [ga, gb] : candidates_.pairs) collide_pair(ga, gb);
+        for (const CandidatePair& pair : candidates_.pairs) collide_pair(pair);
     }
 
-    void collide_pair(dGeomID ga, dGeomID gb) {
+    void collide_pair(const CandidatePair& pair) {
         const auto& owners = world_->geom_owners();
-        const GeomOwner& oa = owners[geom_index(ga)];
-        const GeomOwner& ob = owners[geom_index(gb)];
+        dGeomID ga = pair.first, gb = pair.second;
+        const GeomOwner& oa = owners[pair.first_index];
+        const GeomOwner& ob = owners[pair.second_index];
         if (oa.body == ob.body) return;
         const bool moving_a = compiled_.bodies()[oa.body].dynamic;
         const bool moving_b = compiled_.bodies()[ob.body].dynamic;
@@ -279,10 +293,9 @@ private:
                 ++result_.impacts_perturbed;
             }
         }
-        // Bullet's damping model, as Blender uses it: v *= (1 - d)^dt.
         const Body& scene_body = compiled_.scene().bodies[i];
-        v = scale(v, std::pow(1.0 - scene_body.linear_damping, dt));
-        w = scale(w, std::pow(1.0 - scene_body.angular_damping, dt));
+        v = scale(v, linear_damping_factor_[i]);
+        w = scale(w, angular_damping_factor_[i]);
         dBodySetLinearVel(body, v[0], v[1], v[2]);
         dBodySetAngularVel(body, w[0], w[1], w[2]);
         const Vec3 position = from_ode(dBodyGetPosition(body));
@@ -403,6 +416,7 @@ private:
     double impact_angular_threshold_ = 0;
     std::vector<double> rest_since_s_;
     std::vector<int32_t> impact_partner_;
+    std::vector<double> linear_damping_factor_, angular_damping_factor_;
     std::vector<Vec3> previous_linear_, previous_angular_;
     std::vector<std::pair<int32_t, double>> deepest_partner_;
     std::vector<Transform> frames_;
