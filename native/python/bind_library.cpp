@@ -17,7 +17,9 @@ namespace {
 // A library opened for browsing: worlds stay compressed in memory and decode on demand.
 class PyLibrary {
 public:
-    explicit PyLibrary(const std::string& path) : reader_(path) { index_new_worlds(0); }
+    PyLibrary(const std::string& path, double polyline_hz) : reader_(path, ReaderOptions{false, polyline_hz}) {
+        index_new_worlds(0);
+    }
 
     size_t poll() {
         const size_t before = reader_.worlds().size();
@@ -72,7 +74,9 @@ void bind_library(py::module_& m) {
     py::register_exception<CodecError>(m, "CodecError", PyExc_ValueError);
 
     py::class_<PyLibrary>(m, "Library", "A .mwb library file: run header, worlds (compressed in memory), rejections.")
-        .def(py::init<const std::string&>(), py::arg("path"), py::call_guard<py::gil_scoped_release>())
+        .def(py::init<const std::string&, double>(), py::arg("path"), py::arg("polyline_hz") = 30.0,
+             py::call_guard<py::gil_scoped_release>(),
+             "Open a library; every world is decoded once on load to derive its polyline at polyline_hz.")
         .def_property_readonly("path", [](const PyLibrary& l) { return l.reader().path(); })
         .def_property_readonly("header", [](const PyLibrary& l) { return header_dict(l.reader().header()); })
         .def_property_readonly("warnings", [](const PyLibrary& l) { return l.reader().warnings(); })
@@ -123,6 +127,17 @@ void bind_library(py::module_& m) {
              },
              py::arg("world"), py::arg("body"), py::arg("frame"),
              "(location, quaternion) of one body at one frame, decoding only that body's track")
+        .def("polyline",
+             [](const PyLibrary& l, uint64_t w) {
+                 const StoredWorld& world = l.world(w);
+                 py::array_t<float> out({static_cast<py::ssize_t>(world.tracks.size()),
+                                         static_cast<py::ssize_t>(world.polyline_points), py::ssize_t{3}});
+                 std::copy(world.polyline.begin(), world.polyline.end(), out.mutable_data());
+                 return out;
+             },
+             py::arg("world"),
+             "float32 (bodies, points, 3): the path down-sampled on load (every polyline_stride-th frame and the last)")
+        .def("polyline_stride", [](const PyLibrary& l, uint64_t w) { return l.world(w).polyline_stride; }, py::arg("world"))
         .def("rest_times",
              [](const PyLibrary& l, uint64_t w) {
                  std::vector<double> out;

@@ -102,6 +102,51 @@ TEST_F(Library, DecodedMotionStaysWithinTheCodecBoundsForEveryBodyAndFrame) {
     }
 }
 
+TEST_F(Library, EveryBundledSceneDecodesWithinTheBounds) {
+    // The regression the codec promises: on every scene we ship, never a frame beyond the bound.
+    for (const char* name : {"scenes/quickstart.json", "scenes/all_shapes_and_joints.json", "bench/chain.json",
+                             "bench/pile50.json"}) {
+        const Scene scene = load_scene_file(std::string(MWB_TEST_DATA_DIR) + "/" + name);
+        const std::string file = path("bundled.mwb");
+        fs::remove(file);
+        const auto simulated = sample_into(file, scene, 0, 2);
+        const LibraryReader reader(file);
+        ASSERT_EQ(reader.worlds().size(), 2u) << name;
+        for (const StoredWorld& stored : reader.worlds()) {
+            const WorldResult& original = simulated.at(stored.world_index);
+            const std::vector<double> positions = decode_world_positions(stored);
+            const std::vector<double> orientations = decode_world_orientations(stored);
+            for (size_t k = 0; k < positions.size() / 3; ++k) {
+                const Vec3 d{positions[3 * k] - original.positions_m[3 * k], positions[3 * k + 1] - original.positions_m[3 * k + 1],
+                             positions[3 * k + 2] - original.positions_m[3 * k + 2]};
+                ASSERT_LE(norm(d), reader.header().bounds.position_error_max_m) << name << " value " << k;
+                const Quat a{orientations[4 * k], orientations[4 * k + 1], orientations[4 * k + 2], orientations[4 * k + 3]};
+                const Quat b{original.orientations[4 * k], original.orientations[4 * k + 1], original.orientations[4 * k + 2],
+                             original.orientations[4 * k + 3]};
+                ASSERT_LE(quat_angle_between(a, b), reader.header().bounds.rotation_error_max_rad) << name << " value " << k;
+            }
+        }
+    }
+}
+
+TEST_F(Library, PolylineIsDerivedOnLoadFromTheDecodedPath) {
+    const std::string file = path("poly.mwb");
+    sample_into(file, fixtures::mesh_ramp_with_joints(), 0, 2);
+    const LibraryReader reader(file, ReaderOptions{false, 30});
+    for (const StoredWorld& world : reader.worlds()) {
+        ASSERT_EQ(world.polyline_stride, 4u);  // 120 Hz down to 30 Hz
+        ASSERT_EQ(world.polyline_points, (world.frame_count - 1 + 3) / 4 + 1);
+        const std::vector<double> positions = decode_world_positions(world);
+        const size_t track = world.tracks.size() - 1;
+        for (uint32_t p = 0; p < world.polyline_points; ++p) {
+            const size_t frame = std::min<size_t>(p * 4, world.frame_count - 1);
+            for (int k = 0; k < 3; ++k)
+                EXPECT_EQ(world.polyline[(track * world.polyline_points + p) * 3 + k],
+                          static_cast<float>(positions[(track * world.frame_count + frame) * 3 + k]));
+        }
+    }
+}
+
 TEST_F(Library, RandomAccessPoseEqualsTheFullDecode) {
     const std::string file = path("ramp.mwb");
     sample_into(file, fixtures::mesh_ramp_with_joints(), 0, 1);
@@ -136,7 +181,7 @@ TEST_F(Library, TruncationAnywhereKeepsEveryCompleteRecord) {
     const std::string file = path("full.mwb");
     sample_into(file, fixtures::pile(6, 24), 0, 3, 1);
     const std::vector<uint8_t> bytes = read_all(file);
-    const LibraryReader full(file, true);
+    const LibraryReader full(file, ReaderOptions{true, 0});
     ASSERT_EQ(full.raw_records().size(), 3u);
     const uint64_t header_end = full.raw_records().front().offset;
     const std::string cut = path("cut.mwb");
@@ -150,7 +195,9 @@ TEST_F(Library, TruncationAnywhereKeepsEveryCompleteRecord) {
         ASSERT_EQ(reader.worlds().size(), complete) << "length " << length;
         const bool torn = reader.pending_tail_bytes() > 0;
         EXPECT_EQ(torn, !reader.warnings().empty()) << "a torn tail is reported, length " << length;
-        if (torn) EXPECT_NE(reader.warnings().front().find("incomplete"), std::string::npos);
+        if (torn) {
+            EXPECT_NE(reader.warnings().front().find("incomplete"), std::string::npos);
+        }
     }
 }
 
@@ -158,7 +205,7 @@ TEST_F(Library, BitFlipsNeverCrashAndOnlyTheDamagedRecordIsLost) {
     const std::string file = path("full.mwb");
     sample_into(file, fixtures::pile(6, 24), 0, 4, 1);
     const std::vector<uint8_t> bytes = read_all(file);
-    const LibraryReader full(file, true);
+    const LibraryReader full(file, ReaderOptions{true, 0});
     const uint64_t header_end = full.raw_records().front().offset;
     PortableRandom random(77);
     const std::string damaged = path("damaged.mwb");

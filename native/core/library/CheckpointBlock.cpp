@@ -54,7 +54,10 @@ void write_checkpoints(ByteWriter& out, const std::vector<Checkpoint>& checkpoin
 std::vector<Checkpoint> read_checkpoints(ByteReader& in) {
     const auto plain_size = in.get<uint64_t>();
     const auto [packed, packed_size] = in.get_blob();
-    if (plain_size > kMaxInflatedBytes) in.fail("checkpoint block claims " + std::to_string(plain_size) + " bytes");
+    // Deflate cannot expand data more than 1032:1; a larger claim is corruption, refused before
+    // allocating for it.
+    if (plain_size > kMaxInflatedBytes || plain_size > uint64_t{packed_size} * 1032 + 64)
+        in.fail("checkpoint block claims " + std::to_string(plain_size) + " bytes");
     std::vector<uint8_t> plain(plain_size);
     uLongf out_size = plain_size;
     if (uncompress(plain.data(), &out_size, packed, packed_size) != Z_OK || out_size != plain_size)

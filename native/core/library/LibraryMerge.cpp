@@ -26,7 +26,7 @@ std::vector<std::string> merge_libraries(const std::vector<std::string>& inputs,
     std::vector<LibraryReader> readers;
     std::vector<std::string> warnings;
     for (const std::string& path : inputs) {
-        readers.emplace_back(path, true);
+        readers.emplace_back(path, ReaderOptions{true, 0});
         const auto& w = readers.back().warnings();
         warnings.insert(warnings.end(), w.begin(), w.end());
         if (run_hash(readers.back().header()) != run_hash(readers.front().header()))

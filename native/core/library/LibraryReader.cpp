@@ -5,6 +5,8 @@
 #include "library/ByteIO.h"
 #include "library/FileBytes.h"
 #include "library/LibraryFormat.h"
+#include "library/WorldDecoding.h"
+#include "codec/CodecError.h"
 
 namespace mwb {
 namespace {
@@ -35,8 +37,15 @@ size_t find_next_record(const std::vector<uint8_t>& bytes, size_t from) {
 
 }  // namespace
 
-LibraryReader::LibraryReader(std::string path, bool keep_raw_records) : path_(std::move(path)), keep_raw_(keep_raw_records) {
-    const std::vector<uint8_t> bytes = read_file_from(path_, 0);
+LibraryReader::LibraryReader(std::string path, const ReaderOptions& options) : path_(std::move(path)), options_(options) {
+    load(read_file_from(path_, 0));
+}
+
+LibraryReader::LibraryReader(std::string name, const std::vector<uint8_t>& bytes) : path_(std::move(name)) {
+    load(bytes);
+}
+
+void LibraryReader::load(const std::vector<uint8_t>& bytes) {
     file_size_ = bytes.size();
     read_header(bytes);
     const std::vector<uint8_t> records(bytes.begin() + static_cast<std::ptrdiff_t>(offset_), bytes.end());
@@ -94,7 +103,9 @@ bool LibraryReader::accept_record(RawRecord&& record) {
     const std::string where = path_ + ", record at byte " + std::to_string(record.offset);
     try {
         if (record.type == kRecordTypeWorld && record.version == kWorldRecordVersion) {
-            worlds_.push_back(decode_world_record(record.payload.data(), record.payload.size(), where));
+            StoredWorld world = decode_world_record(record.payload.data(), record.payload.size(), where);
+            if (options_.polyline_hz > 0) derive_polyline(world, options_.polyline_hz);
+            worlds_.push_back(std::move(world));
         } else if (record.type == kRecordTypeRejection && record.version == kRejectionRecordVersion) {
             rejections_.push_back(decode_rejection_record(record.payload.data(), record.payload.size(), where));
         } else {
@@ -105,8 +116,11 @@ bool LibraryReader::accept_record(RawRecord&& record) {
     } catch (const LibraryError& error) {
         warnings_.push_back(std::string(error.what()) + "; skipped");
         return false;
+    } catch (const CodecError& error) {
+        warnings_.push_back(where + ": " + error.what() + "; skipped");
+        return false;
     }
-    if (keep_raw_) raw_.push_back(std::move(record));
+    if (options_.keep_raw_records) raw_.push_back(std::move(record));
     return true;
 }
 

@@ -19,12 +19,22 @@ struct RawRecord {
     std::vector<uint8_t> payload;
 };
 
+struct ReaderOptions {
+    bool keep_raw_records = false;  ///< keep every record's bytes (for merging)
+    /// > 0: decode each world on load and derive its down-sampled polyline at about this rate;
+    /// a world whose tracks do not decode is then skipped with a warning.
+    double polyline_hz = 0;
+};
+
 class LibraryReader {
 public:
     /// Opens `path` and reads everything intact. Throws LibraryError (path and offset in the
     /// message) when the file is not a library, is of an unknown format version, or its header is
     /// damaged. Damaged records are skipped and reported in warnings(), never thrown.
-    explicit LibraryReader(std::string path, bool keep_raw_records = false);
+    explicit LibraryReader(std::string path, const ReaderOptions& options = {});
+    /// Reads a library image already in memory; `name` stands for the file in messages. Such a
+    /// reader has no file to poll.
+    LibraryReader(std::string name, const std::vector<uint8_t>& bytes);
 
     const std::string& path() const { return path_; }
     const RunHeader& header() const { return header_; }
@@ -42,12 +52,13 @@ public:
     size_t poll();
 
 private:
+    void load(const std::vector<uint8_t>& bytes);
     void read_header(const std::vector<uint8_t>& bytes);
     void parse_records(const std::vector<uint8_t>& bytes, uint64_t base_offset, bool at_end);
     bool accept_record(RawRecord&& record);
 
     std::string path_;
-    bool keep_raw_;
+    ReaderOptions options_;
     RunHeader header_;
     std::vector<StoredWorld> worlds_;
     std::vector<StoredRejection> rejections_;

@@ -1,5 +1,8 @@
 #include "library/WorldDecoding.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "codec/CodecError.h"
 #include "codec/PositionDecoder.h"
 #include "codec/RotationDecoder.h"
@@ -34,6 +37,23 @@ std::vector<double> decode_world_orientations(const StoredWorld& world) {
         checked_decoder<RotationTrackDecoder>(world.tracks[t].rotation, world.frame_count, world.tracks[t].body)
             .decode_all(&out[t * frames * 4]);
     return out;
+}
+
+void derive_polyline(StoredWorld& world, double rate_hz) {
+    const uint32_t frames = world.frame_count;
+    const uint32_t stride = std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(world.record_hz / rate_hz)));
+    const uint32_t points = frames == 0 ? 0 : (frames - 1 + stride - 1) / stride + 1;
+    const std::vector<double> positions = decode_world_positions(world);
+    world.polyline.assign(world.tracks.size() * points * 3, 0.0f);
+    for (size_t t = 0; t < world.tracks.size(); ++t) {
+        for (uint32_t p = 0; p < points; ++p) {
+            const size_t frame = std::min<size_t>(size_t{p} * stride, frames - 1);
+            for (int k = 0; k < 3; ++k)
+                world.polyline[(t * points + p) * 3 + k] = static_cast<float>(positions[(t * frames + frame) * 3 + k]);
+        }
+    }
+    world.polyline_points = points;
+    world.polyline_stride = stride;
 }
 
 Transform decode_pose(const StoredWorld& world, size_t track, uint32_t frame) {

@@ -40,6 +40,11 @@ struct StoredWorld {
     std::vector<ContactEvent> contacts;
     std::vector<Checkpoint> checkpoints;
     std::vector<MetricValues> metrics;  ///< per_body aligned with tracks
+    /// Derived on load, not stored: each track's origin path down-sampled for drawing and
+    /// queries, (tracks, polyline_points, 3) float32; every polyline_stride-th frame plus the last.
+    std::vector<float> polyline;
+    uint32_t polyline_points = 0;
+    uint32_t polyline_stride = 0;
 };
 
 struct StoredRejection {
