@@ -7,6 +7,7 @@ namespace mwb::python {
 void bind_scene(py::module_& m);
 void bind_sampler(py::module_& m);
 void bind_library(py::module_& m);
+void bind_query(py::module_& m);
 }  // namespace mwb::python
 
 PYBIND11_MODULE(_native, m) {
@@ -14,4 +15,5 @@ PYBIND11_MODULE(_native, m) {
     mwb::python::bind_scene(m);
     mwb::python::bind_sampler(m);
     mwb::python::bind_library(m);
+    mwb::python::bind_query(m);
 }

@@ -1,0 +1,120 @@
+"""Runs mwb-engine as a child process and follows its progress without blocking the caller.
+
+Bulk sampling never runs ODE inside Blender: a crash or a long run stays in the child. A reader
+thread drains stderr (progress lines) and stdout so the child never blocks on a full pipe; the
+caller polls `progress()` and `finished()` from a timer.
+"""
+import signal
+import subprocess
+import threading
+
+PROGRESS_TAG = "MWB-PROGRESS"
+
+
+def parse_progress(line):
+    """'MWB-PROGRESS 3 10 world 7' -> (3, 10, 7); anything else -> None."""
+    parts = line.split()
+    if len(parts) >= 3 and parts[0] == PROGRESS_TAG:
+        try:
+            world = int(parts[4]) if len(parts) >= 5 and parts[3] == "world" else -1
+            return int(parts[1]), int(parts[2]), world
+        except ValueError:
+            return None
+    return None
+
+
+def sample_command(engine, scene_json, library, seed, first_world, world_count, threads, duration_s=0.0,
+                   stop_at_rest=True, alpha=0.1, position_error_m=0.001, rotation_error_deg=0.5):
+    """The argument list of one `mwb-engine sample` run over worlds [first_world, first_world + world_count)."""
+    argv = [engine, "sample", "--scene", scene_json, "--out", library, "--seed", str(int(seed)),
+            "--worlds", f"{int(first_world)}:{int(first_world + world_count)}", "--threads", str(int(threads)),
+            "--alpha", repr(float(alpha)), "--position-error", repr(float(position_error_m)),
+            "--rotation-error", repr(float(rotation_error_deg)), "--progress"]
+    if duration_s > 0:
+        argv += ["--duration", repr(float(duration_s))]
+    if not stop_at_rest:
+        argv.append("--no-stop-at-rest")
+    return argv
+
+
+class EngineRun:
+    """One running `mwb-engine` child. Thread-safe to poll from the UI thread."""
+
+    def __init__(self, argv):
+        self.argv = list(argv)
+        self._lock = threading.Lock()
+        self._done = 0
+        self._total = 0
+        self._last_world = -1
+        self._messages = []
+        self._stdout = ""
+        self.cancel_requested = False
+        self._process = subprocess.Popen(self.argv, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                                         stderr=subprocess.PIPE, text=True, bufsize=1)
+        self._reader = threading.Thread(target=self._read, name="mwb-engine-reader", daemon=True)
+        self._reader.start()
+
+    def _read(self):
+        for line in self._process.stderr:
+            progress = parse_progress(line)
+            with self._lock:
+                if progress:
+                    self._done, self._total, self._last_world = progress
+                elif line.strip():
+                    self._messages.append(line.rstrip("\n"))
+        out = self._process.stdout.read()
+        with self._lock:
+            self._stdout = out
+
+    @property
+    def pid(self):
+        return self._process.pid
+
+    def progress(self):
+        """(worlds finished, worlds to do, index of the last finished world or -1)."""
+        with self._lock:
+            return self._done, self._total, self._last_world
+
+    def finished(self):
+        """True once the child exited and its output was read."""
+        return self._process.poll() is not None and not self._reader.is_alive()
+
+    def returncode(self):
+        return self._process.poll()
+
+    def messages(self):
+        """stderr lines other than progress (errors, repairs)."""
+        with self._lock:
+            return list(self._messages)
+
+    def summary(self):
+        with self._lock:
+            return self._stdout.strip()
+
+    def failure(self):
+        """None for a clean run or a cancel (which keeps finished worlds); otherwise the first error line."""
+        code = self.returncode()
+        if code in (None, 0) or (code == 130 and self.cancel_requested):
+            return None
+        lines = [m for m in self.messages() if m.strip()]
+        text = lines[0] if lines else f"mwb-engine exited with code {code}"
+        # "mwb-engine: invalid scene:" is a heading; the problem is on the next line.
+        if text.endswith(":") and len(lines) > 1:
+            text = f"{text} {lines[1].strip()}"
+        return text
+
+    def cancel(self):
+        """Ask the engine to stop: it finishes writing the current record and exits with 130."""
+        if self._process.poll() is None:
+            self.cancel_requested = True
+            self._process.send_signal(signal.SIGINT)
+
+    def wait(self, timeout=None):
+        self._process.wait(timeout)
+        self._reader.join(timeout)
+        return self._process.returncode
+
+    def kill(self):
+        if self._process.poll() is None:
+            self._process.kill()
+        self.wait(10)

@@ -1,0 +1,26 @@
+"""Where the add-on finds the engine and where it writes its files."""
+import os
+
+PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def engine_path():
+    """The mwb-engine executable: $MWB_ENGINE, else the one the build copies into the package."""
+    path = os.environ.get("MWB_ENGINE") or os.path.join(PACKAGE_DIR, "bin", "mwb-engine")
+    if not os.path.isfile(path):
+        raise FileNotFoundError(f"mwb-engine not found at {path}: build the project (cmake --build build) "
+                                "or set MWB_ENGINE")
+    return path
+
+
+def default_library_name(blend_path):
+    """'shot.blend' -> 'shot.mwb'; an unsaved file has no default."""
+    if not blend_path:
+        return ""
+    return os.path.splitext(os.path.basename(blend_path))[0] + ".mwb"
+
+
+def scene_json_path(library_path):
+    """The exported scene sits next to the library: 'shot.mwb' -> 'shot.scene.json'."""
+    root, _ = os.path.splitext(library_path)
+    return root + ".scene.json"

@@ -1,0 +1,24 @@
+"""Runtime state of this Blender session that is not saved: the open library and the engine run.
+
+What must survive a reload (library path, selected world) lives in scene properties; this holds
+only objects that cannot be saved, and is rebuilt from those properties on load.
+"""
+
+
+class Session:
+    def __init__(self):
+        self.view = None        # LibraryView or None
+        self.engine = None      # EngineRun or None
+        self.status = ""        # one line for the panel and status bar
+        self.last_error = ""    # engine failure text, shown as a report
+
+    def close(self):
+        if self.engine is not None:
+            self.engine.cancel()
+            self.engine.wait(30)
+            self.engine = None
+        self.view = None
+        self.status = ""
+
+
+SESSION = Session()

@@ -1,0 +1,195 @@
+#include "query/PathIndex.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace mwb {
+namespace {
+
+// A sphere around a whole path: a cheap first rejection before the tree.
+std::array<float, 4> bounding_sphere(const std::vector<float>& points) {
+    const size_t n = points.size() / 3;
+    if (n == 0) return {0, 0, 0, -1};
+    float lo[3] = {points[0], points[1], points[2]}, hi[3] = {points[0], points[1], points[2]};
+    for (size_t k = 0; k < n; ++k)
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], points[3 * k + a]);
+            hi[a] = std::max(hi[a], points[3 * k + a]);
+        }
+    const Vec3 c{(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0, (lo[2] + hi[2]) / 2.0};
+    double r = 0;
+    for (size_t k = 0; k < n; ++k) r = std::max(r, norm(sub({points[3 * k], points[3 * k + 1], points[3 * k + 2]}, c)));
+    return {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2]),
+            static_cast<float>(r * (1 + 1e-6) + 1e-6)};
+}
+
+bool sphere_outside(const Frustum& f, const std::array<float, 4>& s, double radius) {
+    const Vec3 c{s[0], s[1], s[2]};
+    for (const Plane& p : f.planes)
+        if (p.distance(c) < -(s[3] + radius)) return true;
+    return false;
+}
+
+}  // namespace
+
+PathIndex::PathIndex(std::vector<double> body_radii_m) : body_radii_m_(std::move(body_radii_m)) {}
+
+std::unique_ptr<PathIndex::World> PathIndex::build_world(IndexedWorldInput&& input) {
+    auto world = std::make_unique<World>();
+    world->world_index = input.world_index;
+    world->paths.reserve(input.polylines.size());
+    for (std::vector<float>& polyline : input.polylines) {
+        world->root_spheres.push_back(bounding_sphere(polyline));
+        world->paths.emplace_back(std::move(polyline), input.stride, input.last_frame, input.record_hz);
+    }
+    world->final_orientations = std::move(input.final_orientations);
+    world->metric_names = std::move(input.metric_names);
+    world->metric_values = std::move(input.metric_values);
+    return world;
+}
+
+void PathIndex::add_worlds(std::vector<IndexedWorldInput> worlds, int threads) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        worlds.erase(std::remove_if(worlds.begin(), worlds.end(),
+                                    [&](const IndexedWorldInput& w) {
+                                        return std::binary_search(sorted_indices_.begin(), sorted_indices_.end(), w.world_index);
+                                    }),
+                     worlds.end());
+    }
+    for (const IndexedWorldInput& w : worlds)
+        if (w.polylines.size() != body_radii_m_.size())
+            throw std::invalid_argument("world " + std::to_string(w.world_index) + " has " +
+                                        std::to_string(w.polylines.size()) + " paths, the index " +
+                                        std::to_string(body_radii_m_.size()) + " bodies");
+    std::vector<std::unique_ptr<World>> built(worlds.size());
+    const int thread_count = threads > 0 ? threads : omp_get_max_threads();
+    const auto count = static_cast<long long>(worlds.size());
+#pragma omp parallel for num_threads(thread_count) schedule(dynamic, 4)
+    for (long long k = 0; k < count; ++k) built[static_cast<size_t>(k)] = build_world(std::move(worlds[static_cast<size_t>(k)]));
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (auto& world : built) {
+        if (std::binary_search(sorted_indices_.begin(), sorted_indices_.end(), world->world_index)) continue;
+        sorted_indices_.insert(std::upper_bound(sorted_indices_.begin(), sorted_indices_.end(), world->world_index),
+                               world->world_index);
+        worlds_.push_back(std::move(world));
+    }
+}
+
+size_t PathIndex::world_count() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return worlds_.size();
+}
+
+bool PathIndex::contains(uint64_t world_index) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return std::binary_search(sorted_indices_.begin(), sorted_indices_.end(), world_index);
+}
+
+size_t PathIndex::memory_bytes() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    size_t bytes = sizeof(*this);
+    for (const auto& w : worlds_) {
+        bytes += sizeof(World) + w->root_spheres.capacity() * sizeof(w->root_spheres[0]) +
+                 w->final_orientations.capacity() * sizeof(Quat);
+        for (const PathTree& p : w->paths) bytes += p.memory_bytes();
+        for (const auto& m : w->metric_values) bytes += m.capacity() * sizeof(double);
+    }
+    return bytes;
+}
+
+std::vector<const PathIndex::World*> PathIndex::snapshot() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<const World*> out;
+    out.reserve(worlds_.size());
+    for (const auto& w : worlds_) out.push_back(w.get());
+    std::sort(out.begin(), out.end(), [](const World* a, const World* b) { return a->world_index < b->world_index; });
+    return out;
+}
+
+bool PathIndex::world_satisfies(const World& world, const QueryBox& box, bool brute_force) const {
+    bool entered = false;
+    for (uint32_t body : box.bodies) {
+        if (body >= world.paths.size()) throw std::out_of_range("query box names body " + std::to_string(body));
+        const double radius = box.swept ? body_radii_m_[body] : 0.0;
+        if (!brute_force && sphere_outside(box.frustum, world.root_spheres[body], radius)) continue;
+        const PathTree& path = world.paths[body];
+        if (brute_force ? path.touches_brute_force(box.frustum, box.window, radius)
+                        : path.touches(box.frustum, box.window, radius)) {
+            entered = true;
+            break;
+        }
+    }
+    return entered != box.negative;
+}
+
+QueryResult PathIndex::query(const std::vector<QueryBox>& boxes, uint64_t generation, bool brute_force) const {
+    const std::vector<const World*> worlds = snapshot();
+    QueryResult result;
+    result.world_indices.reserve(worlds.size());
+    result.boxes_satisfied.reserve(worlds.size());
+    for (size_t k = 0; k < worlds.size(); ++k) {
+        // Checking every 64 worlds keeps the atomic off the hot path yet stops within ~0.1 ms.
+        if (generation != 0 && k % 64 == 0 && latest_generation_.load(std::memory_order_relaxed) > generation) {
+            result.superseded = true;
+            break;
+        }
+        uint32_t satisfied = 0;
+        for (const QueryBox& box : boxes) satisfied += world_satisfies(*worlds[k], box, brute_force);
+        result.world_indices.push_back(worlds[k]->world_index);
+        result.boxes_satisfied.push_back(satisfied);
+        if (satisfied == boxes.size()) result.matching.push_back(worlds[k]->world_index);
+    }
+    return result;
+}
+
+std::vector<std::pair<uint64_t, double>> PathIndex::rank(const std::string& metric, const std::vector<uint32_t>& bodies,
+                                                         Combine combine, bool descending,
+                                                         const std::vector<uint64_t>* only,
+                                                         const std::vector<Quat>* goals) const {
+    const bool to_goal = metric == "orientation_to_goal_rad";
+    if (to_goal && (!goals || goals->size() != bodies.size()))
+        throw std::invalid_argument("orientation_to_goal_rad needs one goal orientation per body");
+    std::vector<std::pair<uint64_t, double>> ranked;
+    for (const World* world : snapshot()) {
+        if (only && !std::binary_search(only->begin(), only->end(), world->world_index)) continue;
+        const std::vector<double>* values = nullptr;
+        if (!to_goal) {
+            const auto it = std::find(world->metric_names.begin(), world->metric_names.end(), metric);
+            if (it == world->metric_names.end()) throw std::invalid_argument("unknown metric '" + metric + "'");
+            values = &world->metric_values[static_cast<size_t>(it - world->metric_names.begin())];
+        }
+        double combined = combine == Combine::Sum ? 0.0 : -std::numeric_limits<double>::infinity();
+        for (size_t k = 0; k < bodies.size(); ++k) {
+            if (bodies[k] >= world->paths.size()) throw std::out_of_range("ranking names body " + std::to_string(bodies[k]));
+            const double v = to_goal ? quat_angle_between(world->final_orientations[bodies[k]], (*goals)[k])
+                                     : (*values)[bodies[k]];
+            combined = combine == Combine::Sum ? combined + v : std::max(combined, v);
+        }
+        ranked.emplace_back(world->world_index, combined);
+    }
+    // Ties keep world order, so a ranking is reproducible.
+    std::stable_sort(ranked.begin(), ranked.end(), [descending](const auto& a, const auto& b) {
+        return descending ? a.second > b.second : a.second < b.second;
+    });
+    return ranked;
+}
+
+double PathIndex::first_time_inside(uint64_t world_index, const std::vector<uint32_t>& bodies, const Frustum& frustum) const {
+    for (const World* world : snapshot()) {
+        if (world->world_index != world_index) continue;
+        double first = -1;
+        for (uint32_t body : bodies) {
+            const double t = world->paths.at(body).first_time_inside(frustum);
+            if (t >= 0 && (first < 0 || t < first)) first = t;
+        }
+        return first;
+    }
+    throw std::out_of_range("world " + std::to_string(world_index) + " is not indexed");
+}
+
+}  // namespace mwb

@@ -1,0 +1,99 @@
+#pragma once
+// Every indexed world's body paths (in OBB trees) and metrics, answering screen-box queries and
+// metric rankings. Worlds are added incrementally, built in parallel outside the lock, and become
+// visible to queries once complete; queries never wait for a build.
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "query/PathTree.h"
+
+namespace mwb {
+
+/// One screen-space query box.
+struct QueryBox {
+    Frustum frustum;
+    bool negative = false;          ///< keep worlds where no chosen body's path enters
+    std::vector<uint32_t> bodies;   ///< scene body indices the box applies to
+    TimeWindow window;              ///< empty: the whole path
+    bool swept = false;             ///< test each body's bounding sphere, not only its origin path
+};
+
+/// A world's paths and metrics as handed to the index.
+struct IndexedWorldInput {
+    uint64_t world_index = 0;
+    uint32_t stride = 4;        ///< recorded frames per polyline point
+    uint32_t last_frame = 0;    ///< frame_count - 1
+    double record_hz = 120;
+    std::vector<std::vector<float>> polylines;  ///< per body, flat (points, 3)
+    std::vector<Quat> final_orientations;       ///< per body
+    std::vector<std::string> metric_names;
+    std::vector<std::vector<double>> metric_values;  ///< [metric][body]
+};
+
+struct QueryResult {
+    bool superseded = false;             ///< a newer query was posted; the rest is incomplete
+    std::vector<uint64_t> world_indices; ///< every indexed world, in index order
+    std::vector<uint32_t> boxes_satisfied;  ///< per world
+    std::vector<uint64_t> matching;      ///< worlds satisfying every box
+};
+
+enum class Combine { Sum, Max };
+
+class PathIndex {
+public:
+    /// `body_radii_m`: per scene body, the radius around the object origin that bounds its shape
+    /// (for swept queries).
+    explicit PathIndex(std::vector<double> body_radii_m);
+
+    /// Builds the trees of `worlds` on `threads` threads (<= 0: all), then publishes them.
+    /// Worlds already indexed are ignored. Safe to call while queries run on other threads.
+    void add_worlds(std::vector<IndexedWorldInput> worlds, int threads = 0);
+
+    size_t world_count() const;
+    bool contains(uint64_t world_index) const;
+    size_t memory_bytes() const;
+
+    /// Evaluates boxes (combined by AND) over every indexed world, on the calling thread.
+    /// If post_generation() is called with a newer number while it runs, it stops early and
+    /// returns superseded. `brute_force` skips the trees (for tests and benchmarks).
+    QueryResult query(const std::vector<QueryBox>& boxes, uint64_t generation = 0, bool brute_force = false) const;
+    /// Announces that query `generation` is the one that matters now.
+    void post_generation(uint64_t generation) { latest_generation_.store(generation); }
+
+    /// Worlds (all, or `only`) sorted by `metric` combined over `bodies`. Metrics: the stored
+    /// ones (see BodyMetrics.h) and "orientation_to_goal_rad" (angle between each body's final
+    /// orientation and `goals`, one per body in `bodies`). Returns (world index, value) pairs.
+    std::vector<std::pair<uint64_t, double>> rank(const std::string& metric, const std::vector<uint32_t>& bodies,
+                                                  Combine combine, bool descending,
+                                                  const std::vector<uint64_t>* only = nullptr,
+                                                  const std::vector<Quat>* goals = nullptr) const;
+
+    /// First time (seconds) any of `bodies` is inside `frustum` in `world_index`, or negative.
+    double first_time_inside(uint64_t world_index, const std::vector<uint32_t>& bodies, const Frustum& frustum) const;
+
+private:
+    struct World {
+        uint64_t world_index;
+        std::vector<PathTree> paths;
+        std::vector<std::array<float, 4>> root_spheres;  ///< per body: centre, radius
+        std::vector<Quat> final_orientations;
+        std::vector<std::string> metric_names;
+        std::vector<std::vector<double>> metric_values;
+    };
+
+    static std::unique_ptr<World> build_world(IndexedWorldInput&& input);
+    std::vector<const World*> snapshot() const;
+    bool world_satisfies(const World& world, const QueryBox& box, bool brute_force) const;
+
+    std::vector<double> body_radii_m_;
+    mutable std::mutex mutex_;
+    std::vector<std::unique_ptr<World>> worlds_;  ///< guarded by mutex_; World objects are immutable
+    std::vector<uint64_t> sorted_indices_;        ///< guarded by mutex_
+    std::atomic<uint64_t> latest_generation_{0};
+};
+
+}  // namespace mwb

@@ -1,0 +1,164 @@
+#include "query/PathTree.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace mwb {
+namespace {
+
+constexpr int kMaxDepth = 3;
+constexpr uint32_t kMinSegmentsToSplit = 8;
+
+// Eigenvectors of a symmetric 3x3 matrix by cyclic Jacobi rotations; columns of the result.
+std::array<Vec3, 3> principal_axes(std::array<double, 9> a) {
+    std::array<double, 9> v{1, 0, 0, 0, 1, 0, 0, 0, 1};
+    for (int sweep = 0; sweep < 12; ++sweep) {
+        const double off = a[1] * a[1] + a[2] * a[2] + a[5] * a[5];
+        if (off < 1e-30) break;
+        for (int p = 0; p < 2; ++p) {
+            for (int q = p + 1; q < 3; ++q) {
+                const double apq = a[3 * p + q];
+                if (std::fabs(apq) < 1e-300) continue;
+                const double theta = (a[3 * q + q] - a[3 * p + p]) / (2 * apq);
+                const double t = (theta >= 0 ? 1 : -1) / (std::fabs(theta) + std::sqrt(theta * theta + 1));
+                const double c = 1 / std::sqrt(t * t + 1), s = t * c;
+                for (int k = 0; k < 3; ++k) {  // A <- J^T A J
+                    const double akp = a[3 * k + p], akq = a[3 * k + q];
+                    a[3 * k + p] = c * akp - s * akq;
+                    a[3 * k + q] = s * akp + c * akq;
+                }
+                for (int k = 0; k < 3; ++k) {
+                    const double apk = a[3 * p + k], aqk = a[3 * q + k];
+                    a[3 * p + k] = c * apk - s * aqk;
+                    a[3 * q + k] = s * apk + c * aqk;
+                }
+                for (int k = 0; k < 3; ++k) {
+                    const double vkp = v[3 * k + p], vkq = v[3 * k + q];
+                    v[3 * k + p] = c * vkp - s * vkq;
+                    v[3 * k + q] = s * vkp + c * vkq;
+                }
+            }
+        }
+    }
+    Vec3 x{v[0], v[3], v[6]}, y{v[1], v[4], v[7]};
+    x = scale(x, 1 / norm(x));
+    y = sub(y, scale(x, dot(x, y)));
+    const double ly = norm(y);
+    y = ly > 1e-12 ? scale(y, 1 / ly) : (std::fabs(x[0]) < 0.9 ? cross(x, {1, 0, 0}) : cross(x, {0, 1, 0}));
+    y = scale(y, 1 / norm(y));
+    return {x, y, cross(x, y)};
+}
+
+}  // namespace
+
+PathTree::PathTree(std::vector<float> points, uint32_t stride, uint32_t last_frame, double record_hz)
+    : points_(std::move(points)), stride_(std::max<uint32_t>(1, stride)), last_frame_(last_frame), record_hz_(record_hz) {
+    if (point_count() > 0) build(0, static_cast<uint32_t>(point_count() - 1), 0);
+}
+
+double PathTree::time_of(size_t k) const {
+    return static_cast<double>(std::min<uint64_t>(uint64_t{k} * stride_, last_frame_)) / record_hz_;
+}
+
+size_t PathTree::memory_bytes() const {
+    return sizeof(*this) + points_.capacity() * sizeof(float) + nodes_.capacity() * sizeof(Node);
+}
+
+int32_t PathTree::build(uint32_t first, uint32_t last, int depth) {
+    const auto index = static_cast<int32_t>(nodes_.size());
+    nodes_.push_back({});
+    // Principal axes of the points, then the box of their extents along them.
+    Vec3 mean{0, 0, 0};
+    const double n = last - first + 1;
+    for (uint32_t k = first; k <= last; ++k) mean = add(mean, point(k));
+    mean = scale(mean, 1 / n);
+    std::array<double, 9> covariance{};
+    for (uint32_t k = first; k <= last; ++k) {
+        const Vec3 d = sub(point(k), mean);
+        for (int r = 0; r < 3; ++r)
+            for (int c = 0; c < 3; ++c) covariance[3 * r + c] += d[r] * d[c];
+    }
+    const std::array<Vec3, 3> axes = principal_axes(covariance);
+    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    for (uint32_t k = first; k <= last; ++k) {
+        const Vec3 d = sub(point(k), mean);
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], dot(d, axes[a]));
+            hi[a] = std::max(hi[a], dot(d, axes[a]));
+        }
+    }
+    Node node;
+    node.axes = axes;
+    node.center = mean;
+    for (int a = 0; a < 3; ++a) {
+        node.center = add(node.center, scale(axes[a], (lo[a] + hi[a]) / 2));
+        // float32 points and double arithmetic: pad so no point falls outside by rounding.
+        node.half_extents[a] = (hi[a] - lo[a]) / 2 + 1e-6 * (1 + std::fabs(hi[a]) + std::fabs(lo[a]));
+    }
+    node.first_point = first;
+    node.last_point = last;
+    node.children[0] = node.children[1] = -1;
+    if (depth < kMaxDepth && last - first >= kMinSegmentsToSplit) {
+        const uint32_t middle = first + (last - first) / 2;  // children share the middle point
+        node.children[0] = build(first, middle, depth + 1);
+        node.children[1] = build(middle, last, depth + 1);
+    }
+    nodes_[static_cast<size_t>(index)] = node;
+    return index;
+}
+
+bool PathTree::segments_touch(uint32_t first, uint32_t last, const Frustum& frustum, double t_lo, double t_hi,
+                              double radius) const {
+    if (first == last) {  // a one-point path
+        const double t = time_of(first);
+        return t >= t_lo && t <= t_hi && frustum.touches_segment(point(first), point(first), 0, 1, radius);
+    }
+    for (uint32_t k = first; k < last; ++k) {
+        const double ta = time_of(k), tb = time_of(k + 1);
+        if (tb < t_lo || ta > t_hi) continue;
+        // The part of the segment inside the time window (linear in time between samples).
+        const double span = tb - ta;
+        const double u0 = span > 0 ? std::max(0.0, (t_lo - ta) / span) : 0.0;
+        const double u1 = span > 0 ? std::min(1.0, (t_hi - ta) / span) : 1.0;
+        if (frustum.touches_segment(point(k), point(k + 1), u0, u1, radius)) return true;
+    }
+    return false;
+}
+
+bool PathTree::node_touches(int32_t index, const Frustum& frustum, double t_lo, double t_hi, double radius) const {
+    const Node& node = nodes_[static_cast<size_t>(index)];
+    const double start = time_of(node.first_point), end = time_of(node.last_point);
+    if (end < t_lo || start > t_hi) return false;
+    const int side = frustum.classify_box(node.center, node.axes, node.half_extents, radius);
+    if (side < 0) return false;
+    // Wholly inside and wholly within the window: every segment touches.
+    if (side > 0 && start >= t_lo && end <= t_hi) return true;
+    if (node.children[0] < 0) return segments_touch(node.first_point, node.last_point, frustum, t_lo, t_hi, radius);
+    return node_touches(node.children[0], frustum, t_lo, t_hi, radius) ||
+           node_touches(node.children[1], frustum, t_lo, t_hi, radius);
+}
+
+bool PathTree::touches(const Frustum& frustum, const TimeWindow& window, double radius) const {
+    if (nodes_.empty()) return false;
+    const double lo = window.empty() ? -std::numeric_limits<double>::infinity() : window.lo_s;
+    const double hi = window.empty() ? std::numeric_limits<double>::infinity() : window.hi_s;
+    return node_touches(0, frustum, lo, hi, radius);
+}
+
+bool PathTree::touches_brute_force(const Frustum& frustum, const TimeWindow& window, double radius) const {
+    if (point_count() == 0) return false;
+    const double lo = window.empty() ? -std::numeric_limits<double>::infinity() : window.lo_s;
+    const double hi = window.empty() ? std::numeric_limits<double>::infinity() : window.hi_s;
+    return segments_touch(0, static_cast<uint32_t>(point_count() - 1), frustum, lo, hi, radius);
+}
+
+double PathTree::first_time_inside(const Frustum& frustum) const {
+    for (size_t k = 0; k < point_count(); ++k) {
+        const Vec3 p = point(k);
+        if (frustum.touches_segment(p, p, 0, 1, 0)) return time_of(k);
+    }
+    return -1;
+}
+
+}  // namespace mwb

@@ -1,0 +1,57 @@
+#pragma once
+// One body's centre-of-mass path (a polyline) in an oriented-bounding-box tree of depth <= 3
+// with runs of segments at the leaves. The tree owns the polyline: nothing else keeps it.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "query/Frustum.h"
+
+namespace mwb {
+
+/// A time interval in seconds; the whole path when empty() (lo > hi).
+struct TimeWindow {
+    double lo_s = 1, hi_s = 0;
+    bool empty() const { return lo_s > hi_s; }
+};
+
+class PathTree {
+public:
+    /// Builds the tree over `points` (flat (n, 3), float32) where point k is at time
+    /// min(k·stride, last_frame) / record_hz.
+    PathTree(std::vector<float> points, uint32_t stride, uint32_t last_frame, double record_hz);
+
+    /// Whether the path comes within `radius` of the frustum during `window` (whole path if
+    /// the window is empty). Uses the tree; the answer equals touches_brute_force exactly.
+    bool touches(const Frustum& frustum, const TimeWindow& window, double radius) const;
+    /// The same answer by testing every segment; for tests and benchmarks.
+    bool touches_brute_force(const Frustum& frustum, const TimeWindow& window, double radius) const;
+    /// First time (seconds) the path is inside the frustum, or a negative value if never.
+    double first_time_inside(const Frustum& frustum) const;
+
+    size_t point_count() const { return points_.size() / 3; }
+    Vec3 point(size_t k) const { return {points_[3 * k], points_[3 * k + 1], points_[3 * k + 2]}; }
+    double time_of(size_t k) const;
+    size_t memory_bytes() const;
+
+private:
+    struct Node {
+        Vec3 center;
+        std::array<Vec3, 3> axes;
+        Vec3 half_extents;
+        uint32_t first_point, last_point;  ///< covers segments first_point .. last_point - 1
+        int32_t children[2];               ///< -1 for leaves
+    };
+
+    int32_t build(uint32_t first, uint32_t last, int depth);
+    bool node_touches(int32_t node, const Frustum& frustum, double u_lo, double u_hi, double radius) const;
+    bool segments_touch(uint32_t first, uint32_t last, const Frustum& frustum, double t_lo, double t_hi,
+                        double radius) const;
+
+    std::vector<float> points_;
+    std::vector<Node> nodes_;
+    uint32_t stride_, last_frame_;
+    double record_hz_;
+};
+
+}  // namespace mwb

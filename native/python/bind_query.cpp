@@ -1,0 +1,169 @@
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "PyLibrary.h"
+#include "geometry/ShapeBounds.h"
+#include "library/WorldDecoding.h"
+#include "query/PathIndex.h"
+#include "scene/SceneJson.h"
+
+namespace py = pybind11;
+
+namespace mwb::python {
+namespace {
+
+Matrix4 to_matrix(const py::array_t<double, py::array::c_style | py::array::forcecast>& m, const char* name) {
+    if (m.ndim() != 2 || m.shape(0) != 4 || m.shape(1) != 4)
+        throw py::value_error(std::string(name) + " must be a (4, 4) matrix, got " + std::to_string(m.ndim()) +
+                              " dimensions and " + std::to_string(m.size()) + " values");
+    Matrix4 out;
+    std::copy(m.data(), m.data() + 16, out.begin());
+    return out;
+}
+
+QueryBox make_box(const py::array_t<double, py::array::c_style | py::array::forcecast>& view,
+                  const py::array_t<double, py::array::c_style | py::array::forcecast>& projection,
+                  std::pair<double, double> viewport, std::array<double, 4> rect, bool negative,
+                  std::vector<uint32_t> bodies, std::optional<std::pair<double, double>> time_window, bool swept) {
+    QueryBox box;
+    try {
+        box.frustum = make_screen_frustum(to_matrix(view, "view"), to_matrix(projection, "projection"), viewport.first,
+                                          viewport.second, rect[0], rect[1], rect[2], rect[3]);
+    } catch (const std::invalid_argument& error) {
+        throw py::value_error(error.what());
+    }
+    if (bodies.empty()) throw py::value_error("a query box needs at least one body");
+    if (time_window) {
+        if (!(time_window->first <= time_window->second))
+            throw py::value_error("time_window must be (start_s, end_s) with start_s <= end_s");
+        box.window = {time_window->first, time_window->second};
+    }
+    box.negative = negative;
+    box.bodies = std::move(bodies);
+    box.swept = swept;
+    return box;
+}
+
+// What the index needs of each library world it does not hold yet.
+std::vector<IndexedWorldInput> new_worlds(const PathIndex& index, const PyLibrary& library) {
+    std::vector<IndexedWorldInput> inputs;
+    for (const StoredWorld& w : library.reader().worlds()) {
+        if (index.contains(w.world_index)) continue;
+        if (w.polyline_points == 0) throw py::value_error("open the library with polyline_hz > 0 to index it");
+        IndexedWorldInput in;
+        in.world_index = w.world_index;
+        in.stride = w.polyline_stride;
+        in.last_frame = w.frame_count - 1;
+        in.record_hz = w.record_hz;
+        const size_t per_path = size_t{w.polyline_points} * 3;
+        for (size_t t = 0; t < w.tracks.size(); ++t) {
+            in.polylines.emplace_back(w.polyline.begin() + t * per_path, w.polyline.begin() + (t + 1) * per_path);
+            in.final_orientations.push_back(decode_pose(w, t, w.frame_count - 1).rotation);
+        }
+        for (const MetricValues& m : w.metrics) {
+            in.metric_names.push_back(m.name);
+            in.metric_values.push_back(m.per_body);
+        }
+        inputs.push_back(std::move(in));
+    }
+    return inputs;
+}
+
+}  // namespace
+
+void bind_query(py::module_& m) {
+    py::class_<QueryBox>(m, "QueryBox", "A screen rectangle seen through a camera: a frustum in world space.")
+        .def(py::init(&make_box), py::arg("view"), py::arg("projection"), py::arg("viewport"), py::arg("rect"),
+             py::arg("negative") = false, py::arg("bodies"), py::arg("time_window") = py::none(),
+             py::arg("swept") = false,
+             "view: (4, 4) world-to-camera; projection: (4, 4) camera-to-clip (OpenGL); viewport: (width, height)\n"
+             "pixels; rect: (x0, y0, x1, y1) pixels from the bottom-left; bodies: scene body indices;\n"
+             "time_window: (start_s, end_s) or None; swept: test bounding spheres, not only origins.")
+        .def_readonly("negative", &QueryBox::negative)
+        .def_readonly("bodies", &QueryBox::bodies)
+        .def_readonly("swept", &QueryBox::swept);
+
+    py::class_<PathIndex>(m, "PathIndex", "Body paths of many worlds in OBB trees, for box queries and rankings.")
+        .def(py::init<std::vector<double>>(), py::arg("body_radii_m"),
+             "body_radii_m: per scene body, a radius around the object origin bounding its shape")
+        .def(
+            "add_library",
+            [](PathIndex& index, const PyLibrary& library, int threads) {
+                std::vector<IndexedWorldInput> inputs = new_worlds(index, library);
+                const size_t count = inputs.size();
+                py::gil_scoped_release release;
+                index.add_worlds(std::move(inputs), threads);
+                return count;
+            },
+            py::arg("library"), py::arg("threads") = 0,
+            "Index the library's worlds not indexed yet (in parallel, GIL released); returns how many.")
+        .def_property_readonly("world_count", &PathIndex::world_count)
+        .def_property_readonly("memory_bytes", &PathIndex::memory_bytes)
+        .def(
+            "query",
+            [](const PathIndex& index, const std::vector<QueryBox>& boxes, uint64_t generation, bool brute_force) {
+                QueryResult result;
+                {
+                    py::gil_scoped_release release;
+                    result = index.query(boxes, generation, brute_force);
+                }
+                py::dict d;
+                d["superseded"] = result.superseded;
+                d["world_indices"] = py::array_t<uint64_t>(result.world_indices.size(), result.world_indices.data());
+                d["boxes_satisfied"] = py::array_t<uint32_t>(result.boxes_satisfied.size(), result.boxes_satisfied.data());
+                d["matching"] = py::array_t<uint64_t>(result.matching.size(), result.matching.data());
+                return d;
+            },
+            py::arg("boxes"), py::arg("generation") = 0, py::arg("brute_force") = false,
+            "Evaluate boxes (AND). Returns world_indices, boxes_satisfied (per world), matching, superseded.\n"
+            "Runs with the GIL released; a later post_generation(g) with g > generation stops it early.")
+        .def("post_generation", &PathIndex::post_generation, py::arg("generation"))
+        .def(
+            "rank",
+            [](const PathIndex& index, const std::string& metric, const std::vector<uint32_t>& bodies,
+               const std::string& combine, bool descending, std::optional<std::vector<uint64_t>> only,
+               std::optional<std::vector<std::array<double, 4>>> goals) {
+                if (combine != "sum" && combine != "max") throw py::value_error("combine must be 'sum' or 'max'");
+                if (only) std::sort(only->begin(), only->end());
+                std::vector<Quat> goal_quats;
+                if (goals)
+                    for (const auto& g : *goals) goal_quats.push_back(quat_normalized(g));
+                std::vector<std::pair<uint64_t, double>> ranked;
+                try {
+                    py::gil_scoped_release release;
+                    ranked = index.rank(metric, bodies, combine == "sum" ? Combine::Sum : Combine::Max, descending,
+                                        only ? &*only : nullptr, goals ? &goal_quats : nullptr);
+                } catch (const std::invalid_argument& error) {
+                    throw py::value_error(error.what());
+                }
+                py::array_t<uint64_t> ids(ranked.size());
+                py::array_t<double> values(ranked.size());
+                for (size_t k = 0; k < ranked.size(); ++k) {
+                    ids.mutable_at(k) = ranked[k].first;
+                    values.mutable_at(k) = ranked[k].second;
+                }
+                return py::make_tuple(ids, values);
+            },
+            py::arg("metric"), py::arg("bodies"), py::arg("combine") = "sum", py::arg("descending") = false,
+            py::arg("only") = py::none(), py::arg("goals") = py::none(),
+            "Worlds sorted by a metric over bodies: (world ids uint64, values float64).")
+        .def(
+            "first_time_inside",
+            [](const PathIndex& index, uint64_t world, const std::vector<uint32_t>& bodies, const QueryBox& box) {
+                return index.first_time_inside(world, bodies, box.frustum);
+            },
+            py::arg("world"), py::arg("bodies"), py::arg("box"),
+            "First time (s) any of the bodies' paths is inside the box's frustum, or -1.");
+
+    m.def(
+        "body_bounding_radii",
+        [](const Scene& scene) {
+            std::vector<double> radii;
+            for (const Body& b : scene.bodies) radii.push_back(body_bounding_radius(b));
+            return radii;
+        },
+        py::arg("scene"), "Per body: radius around the object origin that bounds its collision shape (metres).");
+}
+
+}  // namespace mwb::python
