@@ -239,7 +239,7 @@ def main():
     build_chute(mats)
     build_bins(mats)
     build_toys(mats)
-    camera_and_lights(location=(1.8, -5.6, 3.4), target=(0, -0.6, 0.5), lens=32)
+    camera_and_lights(location=(2.6, -6.6, 4.4), target=(0, -0.3, 0.6), lens=30)
     bpy.ops.wm.save_as_mainfile(filepath=path, compress=True)
 
 

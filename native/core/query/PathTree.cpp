@@ -53,8 +53,27 @@ std::array<Vec3, 3> principal_axes(std::array<double, 9> a) {
 }  // namespace
 
 PathTree::PathTree(std::vector<float> points, uint32_t stride, uint32_t last_frame, double record_hz)
-    : points_(std::move(points)), stride_(std::max<uint32_t>(1, stride)), last_frame_(last_frame), record_hz_(record_hz) {
+    : stride_(std::max<uint32_t>(1, stride)), last_frame_(last_frame), record_hz_(record_hz) {
+    quantize(points);
     if (point_count() > 0) build(0, static_cast<uint32_t>(point_count() - 1), 0);
+}
+
+void PathTree::quantize(const std::vector<float>& points) {
+    const size_t n = points.size() / 3;
+    points_.resize(n * 3);
+    if (n == 0) return;
+    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    for (size_t k = 0; k < n; ++k)
+        for (int a = 0; a < 3; ++a) {
+            lo[a] = std::min(lo[a], double(points[3 * k + a]));
+            hi[a] = std::max(hi[a], double(points[3 * k + a]));
+        }
+    for (int a = 0; a < 3; ++a) {
+        origin_[a] = lo[a];
+        step_[a] = (hi[a] - lo[a]) / 65535.0;
+        for (size_t k = 0; k < n; ++k)
+            points_[3 * k + a] = step_[a] > 0 ? static_cast<uint16_t>(std::lround((points[3 * k + a] - lo[a]) / step_[a])) : 0;
+    }
 }
 
 double PathTree::time_of(size_t k) const {
@@ -62,7 +81,7 @@ double PathTree::time_of(size_t k) const {
 }
 
 size_t PathTree::memory_bytes() const {
-    return sizeof(*this) + points_.capacity() * sizeof(float) + nodes_.capacity() * sizeof(Node);
+    return sizeof(*this) + points_.capacity() * sizeof(uint16_t) + nodes_.capacity() * sizeof(Node);
 }
 
 int32_t PathTree::build(uint32_t first, uint32_t last, int depth) {
@@ -89,20 +108,30 @@ int32_t PathTree::build(uint32_t first, uint32_t last, int depth) {
         }
     }
     Node node;
-    node.axes = axes;
-    node.center = mean;
+    Vec3 center = mean;
+    for (int a = 0; a < 3; ++a) center = add(center, scale(axes[a], (lo[a] + hi[a]) / 2));
+    // Stored in single precision: the box is re-measured around the rounded centre and axes, and
+    // padded for the rounding of the axes, so every point stays inside the stored box.
     for (int a = 0; a < 3; ++a) {
-        node.center = add(node.center, scale(axes[a], (lo[a] + hi[a]) / 2));
-        // float32 points and double arithmetic: pad so no point falls outside by rounding.
-        node.half_extents[a] = (hi[a] - lo[a]) / 2 + 1e-6 * (1 + std::fabs(hi[a]) + std::fabs(lo[a]));
+        node.center[a] = static_cast<float>(center[a]);
+        for (int c = 0; c < 3; ++c) node.axes[3 * a + c] = static_cast<float>(axes[a][c]);
+    }
+    const Vec3 stored_center{node.center[0], node.center[1], node.center[2]};
+    double reach = 0;
+    for (uint32_t k = first; k <= last; ++k) reach = std::max(reach, norm(sub(point(k), stored_center)));
+    for (int a = 0; a < 3; ++a) {
+        const Vec3 stored_axis{node.axes[3 * a], node.axes[3 * a + 1], node.axes[3 * a + 2]};
+        double extent = 0;
+        for (uint32_t k = first; k <= last; ++k) extent = std::max(extent, std::fabs(dot(sub(point(k), stored_center), stored_axis)));
+        node.half_extents[a] = static_cast<float>(extent * (1 + 1e-6) + 1e-6 * (1 + reach));
     }
     node.first_point = first;
     node.last_point = last;
     node.children[0] = node.children[1] = -1;
     if (depth < kMaxDepth && last - first >= kMinSegmentsToSplit) {
         const uint32_t middle = first + (last - first) / 2;  // children share the middle point
-        node.children[0] = build(first, middle, depth + 1);
-        node.children[1] = build(middle, last, depth + 1);
+        node.children[0] = static_cast<int16_t>(build(first, middle, depth + 1));
+        node.children[1] = static_cast<int16_t>(build(middle, last, depth + 1));
     }
     nodes_[static_cast<size_t>(index)] = node;
     return index;
@@ -130,7 +159,11 @@ bool PathTree::node_touches(int32_t index, const Frustum& frustum, double t_lo, 
     const Node& node = nodes_[static_cast<size_t>(index)];
     const double start = time_of(node.first_point), end = time_of(node.last_point);
     if (end < t_lo || start > t_hi) return false;
-    const int side = frustum.classify_box(node.center, node.axes, node.half_extents, radius);
+    const int side = frustum.classify_box(
+        {node.center[0], node.center[1], node.center[2]},
+        {Vec3{node.axes[0], node.axes[1], node.axes[2]}, Vec3{node.axes[3], node.axes[4], node.axes[5]},
+         Vec3{node.axes[6], node.axes[7], node.axes[8]}},
+        {node.half_extents[0], node.half_extents[1], node.half_extents[2]}, radius);
     if (side < 0) return false;
     // Wholly inside and wholly within the window: every segment touches.
     if (side > 0 && start >= t_lo && end <= t_hi) return true;
