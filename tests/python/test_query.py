@@ -1,0 +1,120 @@
+"""Box queries and rankings through the module, on worlds the engine sampled."""
+import math
+import os
+
+import numpy as np
+import pytest
+
+from conftest import SCENES, run_engine
+
+
+def look_at(eye, target):
+    """World-to-camera matrix of a camera at eye looking at target, Z up (OpenGL convention)."""
+    eye, target = np.asarray(eye, float), np.asarray(target, float)
+    forward = target - eye
+    forward /= np.linalg.norm(forward)
+    right = np.cross(forward, [0, 0, 1])
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    view = np.identity(4)
+    view[0, :3], view[1, :3], view[2, :3] = right, up, -forward
+    view[:3, 3] = -view[:3, :3] @ eye
+    return view
+
+
+def perspective(fov_y, aspect, near, far):
+    c = 1 / math.tan(fov_y / 2)
+    return np.array([[c / aspect, 0, 0, 0], [0, c, 0, 0],
+                     [0, 0, -(far + near) / (far - near), -2 * far * near / (far - near)], [0, 0, -1, 0]])
+
+
+def screen_of(view, projection, size, point):
+    clip = projection @ view @ np.append(point, 1.0)
+    ndc = clip[:3] / clip[3]
+    return (ndc[0] + 1) / 2 * size[0], (ndc[1] + 1) / 2 * size[1]
+
+
+@pytest.fixture(scope="module")
+def sampled(native, engine, tmp_path_factory):
+    out = tmp_path_factory.mktemp("query") / "q.mwb"
+    result = run_engine(engine, "sample", "--scene", os.path.join(SCENES, "quickstart.json"), "--out", str(out),
+                        "--seed", "8", "--worlds", "0:40", "--threads", "2")
+    assert result.returncode == 0, result.stderr
+    lib = native.Library(str(out))
+    scene = native.Scene.from_json(lib.header["scene_json"])
+    index = native.PathIndex(native.body_bounding_radii(scene))
+    assert index.add_library(lib) == 40
+    assert index.add_library(lib) == 0, "indexing again adds nothing"
+    return lib, scene, index
+
+
+def test_box_around_where_a_path_ends_matches_exactly_the_worlds_ending_there(native, sampled):
+    lib, scene, index = sampled
+    marble = scene.body_names.index("Marble")
+    view, projection, size = look_at([3, -8, 6], [3, 0, 0]), perspective(0.9, 1.6, 0.1, 100), (1600, 1000)
+    ends = {w: lib.positions(w)[marble, -1] for w in lib.world_indices}
+    # A small box around one world's final marble position.
+    some_world = sorted(ends)[7]
+    x, y = screen_of(view, projection, size, ends[some_world])
+    box = native.QueryBox(view, projection, size, (x - 15, y - 15, x + 15, y + 15), bodies=[marble])
+    result = index.query([box])
+    assert some_world in result["matching"]
+    # Every match really has a marble path point (decoded, full rate) near the box on screen.
+    for w in result["matching"]:
+        path = lib.positions(int(w))[marble]
+        on_screen = np.array([screen_of(view, projection, size, p) for p in path[::4]])
+        assert np.any((np.abs(on_screen[:, 0] - x) < 25) & (np.abs(on_screen[:, 1] - y) < 25))
+    negative = native.QueryBox(view, projection, size, (x - 15, y - 15, x + 15, y + 15), negative=True, bodies=[marble])
+    both = index.query([box, negative])
+    assert len(both["matching"]) == 0
+    flipped = index.query([negative])
+    assert set(flipped["matching"]) == set(lib.world_indices) - set(result["matching"])
+    assert list(result["boxes_satisfied"]).count(1) == len(result["matching"])
+
+
+def test_tree_and_brute_force_agree_on_sampled_worlds(native, sampled):
+    lib, scene, index = sampled
+    view, projection, size = look_at([0, -10, 5], [0, 0, 0.5]), perspective(0.9, 1.6, 0.1, 100), (1600, 1000)
+    rng = np.random.default_rng(3)
+    for _ in range(60):
+        x0, y0 = rng.uniform(0, 1500), rng.uniform(0, 900)
+        bodies = sorted(rng.choice(len(scene.body_names), size=2, replace=False).tolist())
+        box = native.QueryBox(view, projection, size, (x0, y0, x0 + rng.uniform(5, 300), y0 + rng.uniform(5, 300)),
+                              negative=bool(rng.integers(2)), bodies=bodies, swept=bool(rng.integers(2)),
+                              time_window=None if rng.integers(2) else (0.5, 2.0))
+        fast, slow = index.query([box]), index.query([box], brute_force=True)
+        np.testing.assert_array_equal(fast["matching"], slow["matching"])
+
+
+def test_ranking_by_stored_metrics(native, sampled):
+    lib, scene, index = sampled
+    die = scene.body_names.index("Die")
+    ids, values = index.rank("angular_travel_rad", [die], descending=True)
+    assert len(ids) == 40 and np.all(np.diff(values) <= 0)
+    assert values[0] == pytest.approx(lib.metrics(int(ids[0]))["angular_travel_rad"][die])
+    top_three = ids[:3].tolist()
+    ids, values = index.rank("collision_count", [die, die + 1], combine="max", only=top_three)
+    assert sorted(ids.tolist()) == sorted(top_three)
+    expected = [max(lib.metrics(int(w))["collision_count"][die:die + 2]) for w in ids]
+    np.testing.assert_array_equal(values, expected)
+    upright = index.rank("orientation_to_goal_rad", [die], goals=[(1, 0, 0, 0)])[1]
+    assert np.all((upright >= 0) & (upright <= math.pi + 1e-9))
+
+
+def test_query_inputs_are_checked(native, sampled):
+    _, _, index = sampled
+    view, projection = np.identity(4), perspective(1, 1, 0.1, 10)
+    with pytest.raises(ValueError, match="view must be a"):
+        native.QueryBox(np.identity(3), projection, (100, 100), (0, 0, 10, 10), bodies=[0])
+    with pytest.raises(ValueError, match="empty"):
+        native.QueryBox(view, projection, (100, 100), (5, 5, 5, 50), bodies=[0])
+    with pytest.raises(ValueError, match="at least one body"):
+        native.QueryBox(view, projection, (100, 100), (0, 0, 10, 10), bodies=[])
+    with pytest.raises(ValueError, match="time_window"):
+        native.QueryBox(view, projection, (100, 100), (0, 0, 10, 10), bodies=[0], time_window=(3, 1))
+    with pytest.raises(IndexError):
+        index.query([native.QueryBox(view, projection, (100, 100), (0, 0, 10, 10), bodies=[99])])
+    with pytest.raises(ValueError, match="unknown metric"):
+        index.rank("happiness", [0])
+    with pytest.raises(ValueError, match="combine"):
+        index.rank("collision_count", [0], combine="median")
