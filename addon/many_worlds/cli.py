@@ -1,0 +1,437 @@
+"""Headless command line: sample, merge, inspect, query, rank, bake and preview libraries.
+
+    blender -b FILE.blend --python-exit-code 1 --python addon/many_worlds/cli.py -- COMMAND [options]
+
+Commands (run `... -- help` for the options):
+    sample   sample worlds of the open .blend into a library (the engine runs as a child process)
+    merge    merge libraries of one run into a new one
+    info     worlds, bodies, sizes, rejections and the scene hash of a library
+    query    worlds whose paths enter (or avoid) boxes drawn in the scene camera's view
+    rank     worlds sorted by a metric
+    bake     write one world as keyframes and save the result as a new .blend
+    preview  a contact sheet PNG of chosen worlds' paths seen from the scene camera
+
+A user mistake prints one line starting with "many_worlds: error:" and exits with status 2.
+"""
+import argparse
+import json
+import os
+import signal
+import subprocess
+import sys
+
+if __name__ == "__main__":
+    # Run as a script by Blender: make the package importable from this checkout.
+    sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+import numpy as np  # noqa: E402
+
+from many_worlds import _native  # noqa: E402
+from many_worlds.core import contact_sheet, engine, paths  # noqa: E402
+
+METRICS = ("angular_travel_rad", "time_to_rest_s", "collision_count", "orientation_change_rad", "path_length_m",
+           "orientation_to_goal_rad", "constraints_satisfied")
+
+
+class CliError(Exception):
+    """A user mistake: reported on one line, never as a traceback."""
+
+
+def parse_range(text, what):
+    """'N' is worlds 0..N-1; 'A:B' is worlds A..B-1."""
+    try:
+        if ":" in text:
+            a, b = (int(v) for v in text.split(":"))
+        else:
+            a, b = 0, int(text)
+    except ValueError:
+        raise CliError(f"{what}: expected N or A:B, got '{text}'")
+    if a < 0 or b <= a:
+        raise CliError(f"{what}: empty or negative range '{text}'")
+    return a, b
+
+
+def parse_numbers(text, count, what):
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise CliError(f"{what}: expected {count} comma-separated numbers, got '{text}'")
+    if len(values) != count:
+        raise CliError(f"{what}: expected {count} comma-separated numbers, got '{text}'")
+    return values
+
+
+def require_file(path, what="file"):
+    if not os.path.isfile(path):
+        raise CliError(f"{what} not found: {path}")
+    return path
+
+
+def open_library(path):
+    require_file(path, "library")
+    try:
+        return _native.Library(path)
+    except _native.LibraryError as error:
+        raise CliError(str(error))
+
+
+def library_body_names(library):
+    return [b["name"] for b in json.loads(library.header["scene_json"])["bodies"]]
+
+
+def check_library_matches_scene(library, path):
+    """The library must come from this .blend: every body it holds is an object here."""
+    import bpy
+    missing = [name for name in library_body_names(library) if name not in bpy.data.objects]
+    if missing:
+        raise CliError(f"{path} was sampled from another scene: no object {missing[0]!r} in "
+                       f"{bpy.data.filepath or 'this file'}")
+
+
+def body_indices(library, objects_text, default="simulated"):
+    names = library_body_names(library)
+    if objects_text:
+        wanted = [n.strip() for n in objects_text.split(",") if n.strip()]
+        unknown = [n for n in wanted if n not in names]
+        if unknown:
+            raise CliError(f"unknown object {unknown[0]!r} (the library has: {', '.join(names)})")
+        return [names.index(n) for n in wanted]
+    scene = json.loads(library.header["scene_json"])
+    return [i for i, b in enumerate(scene["bodies"]) if b["type"] == "ACTIVE" and not b.get("kinematic", False)]
+
+
+# --- sample ---------------------------------------------------------------------------------
+
+def command_sample(args):
+    import bpy
+    from many_worlds.export import export_and_validate
+    if args.seeds and args.worlds:
+        raise CliError("give --worlds or --seeds, not both")
+    settings = getattr(bpy.context.scene, "mwb", None)
+    first, end = parse_range(args.seeds or args.worlds or str(getattr(settings, "world_count", 100)),
+                             "--seeds" if args.seeds else "--worlds")
+    result, problems = export_and_validate(bpy.context)
+    if result.scene is None or problems:
+        raise CliError("the scene cannot be sampled: " + "; ".join(problems or result.problems or ["no rigid body world"]))
+    for line in result.problems:
+        print(f"many_worlds: warning: {line}", file=sys.stderr)
+    out = os.path.abspath(args.out)
+    os.makedirs(os.path.dirname(out), exist_ok=True)
+    scene_json = paths.scene_json_path(out)
+    with open(scene_json, "w") as f:
+        f.write(result.to_json())
+    seed = args.seed if args.seed is not None else int(getattr(settings, "seed", 0))
+    duration = args.duration if args.duration is not None else float(getattr(settings, "duration_s", 0.0))
+    argv = engine.sample_command(paths.engine_path(), scene_json, out, seed, first, end - first, args.threads or 0,
+                                 duration_s=duration)
+    # The engine keeps every finished world when interrupted; pass Ctrl-C on to it.
+    process = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    previous = signal.signal(signal.SIGINT, lambda *_: process.send_signal(signal.SIGINT))
+    try:
+        for line in process.stderr:
+            progress = engine.parse_progress(line)
+            if progress:
+                print(f"many_worlds: sampled {progress[0]}/{progress[1]} worlds", file=sys.stderr, flush=True)
+            elif line.strip():
+                print(line.rstrip(), file=sys.stderr)
+        summary = process.stdout.read()
+        process.wait()
+    finally:
+        # Blender installs its own handler from C, which Python reports as None.
+        signal.signal(signal.SIGINT, previous if previous is not None else signal.SIG_DFL)
+    print(summary.strip())
+    if process.returncode == 130:
+        print("many_worlds: interrupted; finished worlds are kept", file=sys.stderr)
+        return 130
+    if process.returncode != 0:
+        raise CliError(f"the engine failed (exit {process.returncode})")
+    return 0
+
+
+# --- merge and info -------------------------------------------------------------------------
+
+def command_merge(args):
+    for path in args.inputs:
+        require_file(path, "library")
+    if os.path.exists(args.output):
+        if not args.overwrite:
+            raise CliError(f"{args.output} exists (use --overwrite to replace it)")
+        os.remove(args.output)
+    try:
+        warnings = _native.merge_libraries(args.inputs, args.output)
+    except _native.LibraryError as error:
+        raise CliError(str(error).replace("\n", " "))
+    for warning in warnings:
+        print(f"many_worlds: warning: {warning}", file=sys.stderr)
+    print(f"merged {len(args.inputs)} libraries: {len(_native.Library(args.output, 0).world_indices)} worlds -> {args.output}")
+    return 0
+
+
+def command_info(args):
+    require_file(args.library, "library")
+    command = [paths.engine_path(), "info", args.library] + (["--json"] if args.json else [])
+    result = subprocess.run(command, capture_output=True, text=True)
+    if result.returncode != 0:
+        raise CliError(result.stderr.strip().splitlines()[0].replace("mwb-engine: ", ""))
+    print(result.stdout.rstrip())
+    return 0
+
+
+# --- query and rank -------------------------------------------------------------------------
+
+def camera_view(name):
+    """(view, projection, (width, height)) of a camera object, at the render resolution."""
+    import bpy
+    camera = bpy.data.objects.get(name)
+    if camera is None or camera.type != "CAMERA":
+        cameras = [o.name for o in bpy.data.objects if o.type == "CAMERA"]
+        raise CliError(f"no camera {name!r} (cameras here: {', '.join(cameras) or 'none'})")
+    render = bpy.context.scene.render
+    width = render.resolution_x * render.resolution_percentage / 100
+    height = render.resolution_y * render.resolution_percentage / 100
+    projection = camera.calc_matrix_camera(bpy.context.evaluated_depsgraph_get(), x=int(width), y=int(height),
+                                           scale_x=render.pixel_aspect_x, scale_y=render.pixel_aspect_y)
+    return np.array(camera.matrix_world.inverted()), np.array(projection), (width, height)
+
+
+def parse_boxes(args, library):
+    """The --box groups: each --box starts a box; --negative/--objects/--time after it refine it."""
+    boxes = []
+    for spec in args.box_specs:
+        x0, y0, x1, y1 = parse_numbers(spec["box"], 4, "--box")
+        if not all(0 <= v <= 1 for v in (x0, y0, x1, y1)):
+            raise CliError(f"--box: coordinates are fractions of the camera view in [0, 1], got '{spec['box']}'")
+        window = tuple(parse_numbers(spec["time"], 2, "--time")) if spec.get("time") else None
+        if window and window[0] > window[1]:
+            raise CliError(f"--time: start after end in '{spec['time']}'")
+        boxes.append(dict(rect=(x0, y0, x1, y1), negative=spec.get("negative", False),
+                          bodies=body_indices(library, spec.get("objects") or getattr(args, "objects", None)),
+                          time_window=window,
+                          swept=spec.get("swept", False)))
+    return boxes
+
+
+def evaluate_boxes(args, library):
+    boxes = parse_boxes(args, library)
+    if not boxes:
+        return None, None
+    view, projection, (width, height) = camera_view(args.camera)
+    native_boxes = []
+    for b in boxes:
+        x0, y0, x1, y1 = b["rect"]
+        try:
+            native_boxes.append(_native.QueryBox(view, projection, (width, height),
+                                                 (x0 * width, y0 * height, x1 * width, y1 * height),
+                                                 negative=b["negative"], bodies=b["bodies"],
+                                                 time_window=b["time_window"], swept=b["swept"]))
+        except ValueError as error:
+            raise CliError(f"--box: {error}")
+    scene = _native.Scene.from_json(library.header["scene_json"])
+    index = _native.PathIndex(_native.body_bounding_radii(scene))
+    index.add_library(library)
+    return index, index.query(native_boxes)
+
+
+def command_query(args):
+    library = open_library(args.library)
+    check_library_matches_scene(library, args.library)
+    if not args.box_specs:
+        raise CliError("query needs at least one --box")
+    _, result = evaluate_boxes(args, library)
+    matching = [int(w) for w in result["matching"]]
+    if args.json:
+        print(json.dumps({"worlds": len(result["world_indices"]), "matching": matching}))
+    else:
+        print(f"{len(matching)} of {len(result['world_indices'])} worlds match")
+        for w in matching:
+            print(w)
+    return 0
+
+
+def command_rank(args):
+    library = open_library(args.library)
+    if args.metric not in METRICS:
+        raise CliError(f"unknown metric {args.metric!r} (one of: {', '.join(METRICS)})")
+    bodies = body_indices(library, args.objects)
+    if args.box_specs:
+        check_library_matches_scene(library, args.library)
+    index, result = evaluate_boxes(args, library)
+    if args.metric == "constraints_satisfied":
+        if result is None:
+            raise CliError("constraints_satisfied ranks by boxes: give at least one --box")
+        order = np.argsort(-result["boxes_satisfied"] if not args.asc else result["boxes_satisfied"], kind="stable")
+        ids, values = result["world_indices"][order], result["boxes_satisfied"][order].astype(float)
+    else:
+        if index is None:
+            scene = _native.Scene.from_json(library.header["scene_json"])
+            index = _native.PathIndex(_native.body_bounding_radii(scene))
+            index.add_library(library)
+        only = [int(w) for w in result["matching"]] if result is not None else None
+        goals = [(1.0, 0.0, 0.0, 0.0)] * len(bodies) if args.metric == "orientation_to_goal_rad" else None
+        ids, values = index.rank(args.metric, bodies, combine=args.combine, descending=args.desc, only=only,
+                                 goals=goals)
+    limit = args.limit or len(ids)
+    for w, v in list(zip(ids, values))[:limit]:
+        print(f"{int(w)} {v:.6g}")
+    return 0
+
+
+# --- bake and preview -----------------------------------------------------------------------
+
+def command_bake(args):
+    import bpy
+    from many_worlds import bake
+    from many_worlds.core.library_view import LibraryView
+    from many_worlds.core.session import SESSION
+    library = open_library(args.library)
+    check_library_matches_scene(library, args.library)
+    if args.world not in set(int(w) for w in library.world_indices):
+        raise CliError(f"no world {args.world} in {args.library}")
+    SESSION.view = LibraryView(_native, args.library)
+    names = bake.bake_world(bpy.context, args.world)
+    out = os.path.abspath(args.out)
+    bpy.ops.wm.save_as_mainfile(filepath=out, copy=True)
+    print(f"baked world {args.world} onto {len(names)} objects -> {out}")
+    return 0
+
+
+def command_preview(args):
+    library = open_library(args.library)
+    check_library_matches_scene(library, args.library)
+    available = set(int(w) for w in library.world_indices)
+    try:
+        worlds = [int(w) for w in args.worlds.split(",")]
+    except ValueError:
+        raise CliError(f"--worlds: expected comma-separated world numbers, got '{args.worlds}'")
+    missing = [w for w in worlds if w not in available]
+    if missing:
+        raise CliError(f"no world {missing[0]} in {args.library}")
+    view, projection, (width, height) = camera_view(args.camera)
+    bodies = body_indices(library, args.objects)
+    tiles = []
+    for w in worlds:
+        polylines = library.polyline(w)
+        tiles.append((w, [polylines[b] for b in bodies]))
+    image = contact_sheet.render(tiles, view, projection, (width, height), tile_width=args.tile_width)
+    contact_sheet.save_png(image, os.path.abspath(args.out))
+    print(f"contact sheet of {len(worlds)} worlds -> {os.path.abspath(args.out)}")
+    return 0
+
+
+# --- argument parsing -----------------------------------------------------------------------
+
+class BoxAction(argparse.Action):
+    """Collects repeatable box groups in order."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        specs = getattr(namespace, "box_specs", None) or []
+        if option_string == "--box":
+            specs.append({"box": values})
+        elif not specs:
+            raise argparse.ArgumentError(self, "comes before any --box")
+        elif option_string == "--negative":
+            specs[-1]["negative"] = True
+        elif option_string == "--swept":
+            specs[-1]["swept"] = True
+        elif option_string == "--objects":
+            specs[-1]["objects"] = values
+        elif option_string == "--time":
+            specs[-1]["time"] = values
+        namespace.box_specs = specs
+
+
+def add_box_options(parser, objects_help=None):
+    parser.set_defaults(box_specs=[])
+    parser.add_argument("--camera", default="Camera", help="camera the boxes are drawn in (default: Camera)")
+    parser.add_argument("--box", action=BoxAction, metavar="X0,Y0,X1,Y1",
+                        help="a box in camera-view fractions (0..1, origin bottom-left); repeatable")
+    parser.add_argument("--negative", action=BoxAction, nargs=0, help="the last box rejects worlds entering it")
+    parser.add_argument("--swept", action=BoxAction, nargs=0, help="the last box tests whole bodies, not centres")
+    parser.add_argument("--time", action=BoxAction, metavar="T0,T1", help="the last box applies between T0 and T1 s")
+    if objects_help:
+        parser.add_argument("--objects", action=BoxAction, metavar="A,B", help=objects_help)
+
+
+class Parser(argparse.ArgumentParser):
+    def error(self, message):
+        raise CliError(message)
+
+
+def build_parser():
+    parser = Parser(prog="many_worlds", description=__doc__.split("\n\n")[0])
+    commands = parser.add_subparsers(dest="command", parser_class=Parser)
+    p = commands.add_parser("sample", help="sample worlds of the open .blend")
+    p.add_argument("--worlds", help="N (worlds 0..N-1) or A:B (worlds A..B-1); default: the scene's world count")
+    p.add_argument("--seeds", help="A:B, the same as --worlds A:B")
+    p.add_argument("--out", required=True, help="library file (.mwb); an existing one of the same run grows")
+    p.add_argument("--threads", type=int, help="engine threads (default: all cores)")
+    p.add_argument("--duration", type=float, help="seconds per world (default: the frame range)")
+    p.add_argument("--seed", type=int, help="base seed (default: the scene's)")
+    p = commands.add_parser("merge", help="merge libraries of one run")
+    p.add_argument("--overwrite", action="store_true", help="replace OUTPUT if it exists")
+    p.add_argument("output")
+    p.add_argument("inputs", nargs="+")
+    p = commands.add_parser("info", help="describe a library")
+    p.add_argument("library")
+    p.add_argument("--json", action="store_true")
+    p = commands.add_parser("query", help="worlds matching boxes in the camera view")
+    p.add_argument("library")
+    p.add_argument("--json", action="store_true")
+    add_box_options(p, "objects the last box applies to (default: every simulated object)")
+    p = commands.add_parser("rank", help="worlds sorted by a metric")
+    p.add_argument("library")
+    p.add_argument("--metric", required=True, help=", ".join(METRICS))
+    p.add_argument("--combine", choices=("sum", "max"), default="sum")
+    p.add_argument("--desc", action="store_true", help="largest first")
+    p.add_argument("--asc", action="store_true", help="constraints_satisfied: fewest first")
+    p.add_argument("--limit", type=int, help="print only the first N")
+    p.add_argument("--objects", help="objects the metric combines and the boxes test (default: all simulated)")
+    add_box_options(p)
+    p = commands.add_parser("bake", help="bake one world to keyframes into a new .blend")
+    p.add_argument("library")
+    p.add_argument("--world", type=int, required=True)
+    p.add_argument("--out", required=True)
+    p = commands.add_parser("preview", help="contact sheet PNG of worlds' paths")
+    p.add_argument("library")
+    p.add_argument("--worlds", required=True, help="comma-separated world numbers")
+    p.add_argument("--out", required=True)
+    p.add_argument("--camera", default="Camera")
+    p.add_argument("--objects", help="objects whose paths are drawn (default: every simulated object)")
+    p.add_argument("--tile-width", type=int, default=320)
+    commands.add_parser("help", help="show this help")
+    return parser
+
+
+COMMANDS = {"sample": command_sample, "merge": command_merge, "info": command_info, "query": command_query,
+            "rank": command_rank, "bake": command_bake, "preview": command_preview}
+
+
+def ensure_registered():
+    """Scene and object settings of the add-on are read through its registered properties."""
+    import bpy
+    if not hasattr(bpy.types.Scene, "mwb"):
+        import many_worlds
+        many_worlds.register()
+
+
+def main(argv):
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+        if args.command in (None, "help"):
+            parser.print_help()
+            return 0 if args.command == "help" else 2
+        if args.command in ("sample", "bake"):
+            ensure_registered()
+        return COMMANDS[args.command](args)
+    except CliError as error:
+        print(f"many_worlds: error: {error}", file=sys.stderr)
+        return 2
+    except (_native.SceneError, _native.LibraryError, _native.CodecError, OSError) as error:
+        print(f"many_worlds: error: {str(error).splitlines()[0]}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    arguments = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    sys.exit(main(arguments))
