@@ -9,7 +9,6 @@ as "object: setting: reason" and never dropped silently.
 import json
 from dataclasses import dataclass, field
 
-import bpy
 from mathutils import Matrix
 
 SCENE_FORMAT = "mwb-scene"

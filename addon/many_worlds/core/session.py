@@ -11,6 +11,8 @@ class Session:
         self.engine = None      # EngineRun or None
         self.status = ""        # one line for the panel and status bar
         self.last_error = ""    # engine failure text, shown as a report
+        self.sampling_scene = ""    # name of the scene being sampled
+        self.sampling_library = ""  # absolute path the engine writes
 
     def close(self):
         if self.engine is not None:

@@ -1,0 +1,49 @@
+"""Many-Worlds Browser: sample many plausible outcomes of a rigid-body scene, browse and bake one.
+
+Blender modules are imported inside register()/unregister() so that `many_worlds._native` and
+`many_worlds.core` also import in a plain Python (tests, farm scripts) where bpy does not exist.
+"""
+bl_info = {
+    "name": "Many-Worlds Browser",
+    "author": "Many-Worlds Browser authors",
+    "version": (0, 1, 0),
+    "blender": (3, 4, 0),
+    "location": "3D View > Sidebar > Many Worlds; Properties > Physics",
+    "description": "Sample thousands of plausible rigid-body outcomes, browse their paths, bake one",
+    "category": "Physics",
+}
+
+
+def _modules():
+    from . import bake, draw, export, operators, preview, props, ui
+    return (props, export, preview, bake, operators, ui, draw)
+
+
+def _classes():
+    return [cls for module in _modules() for cls in module.classes]
+
+
+def register():
+    import bpy
+    from . import draw, handlers, props
+    for cls in _classes():
+        bpy.utils.register_class(cls)
+    props.register_properties()
+    handlers.add()
+    draw.add_handlers()
+
+
+def unregister():
+    import bpy
+    from . import draw, handlers, preview, props
+    from .core.session import SESSION
+    from .operators import sampling
+    sampling.stop_for_unregister()
+    # Put the user's scene back before the properties that describe it go away.
+    preview.end_all_previews()
+    draw.remove_handlers()
+    handlers.remove()
+    SESSION.close()
+    props.unregister_properties()
+    for cls in reversed(_classes()):
+        bpy.utils.unregister_class(cls)

@@ -1,0 +1,129 @@
+"""The path overlay: every sampled path of the chosen bodies in the 3D viewport.
+
+Matching worlds are drawn bright, the others faint, the selected world on top and wider. Batches
+are cached and rebuilt only when the library's data or match state (LibraryView.version), the
+chosen bodies or the selected world change; per-world line segments are cached too, so a new
+world costs only its own arrays.
+"""
+import bpy
+import gpu
+import numpy as np
+from gpu_extras.batch import batch_for_shader
+
+from .. import compat
+from ..core import arrays
+from ..core.session import SESSION
+
+MATCHING_COLOR = (1.0, 0.45, 0.05, 0.9)
+REJECTED_COLOR = (0.55, 0.55, 0.6, 0.12)
+SELECTED_COLOR = (0.1, 0.85, 1.0, 1.0)
+
+
+def chosen_bodies(context, view):
+    if context.scene.mwb.path_bodies == "SELECTED":
+        selected = {ob.name for ob in context.selected_objects}
+        return tuple(i for i, name in enumerate(view.body_names) if name in selected)
+    return tuple(view.simulated_bodies())
+
+
+class PathOverlay:
+    def __init__(self):
+        self._handle = None
+        self._key = None
+        self._batches = []       # (batch, colour, width factor)
+        self._segments = {}      # (world, bodies) -> float32 (n, 3)
+        self._shader = None
+
+    # --- handler lifetime -----------------------------------------------------------------
+
+    def add(self):
+        if self._handle is None:
+            self._handle = bpy.types.SpaceView3D.draw_handler_add(self.draw, (), "WINDOW", "POST_VIEW")
+
+    def remove(self):
+        if self._handle is not None:
+            bpy.types.SpaceView3D.draw_handler_remove(self._handle, "WINDOW")
+            self._handle = None
+        self.clear()
+
+    def clear(self):
+        self._key = None
+        self._batches = []
+        self._segments = {}
+
+    @property
+    def active(self):
+        return self._handle is not None
+
+    # --- batches ------------------------------------------------------------------------------
+
+    def _world_segments(self, view, world, bodies):
+        key = (world, bodies)
+        if key not in self._segments:
+            self._segments[key] = arrays.polyline_segments(view.library.polyline(world), bodies)
+        return self._segments[key]
+
+    def _batch(self, parts):
+        parts = [p for p in parts if len(p)]
+        if not parts:
+            return None
+        return batch_for_shader(self._shader, "LINES", {"pos": np.concatenate(parts)})
+
+    def _rebuild(self, view, bodies, selected):
+        if self._shader is None:
+            self._shader = compat.builtin_shader("POLYLINE_UNIFORM_COLOR")
+        matching, rejected = [], []
+        for world, match in zip(view.world_indices, view.matching):
+            if world != selected:
+                (matching if match else rejected).append(self._world_segments(view, world, bodies))
+        self._batches = []
+        for parts, colour, width in ((rejected, REJECTED_COLOR, 1.0), (matching, MATCHING_COLOR, 1.0)):
+            batch = self._batch(parts)
+            if batch is not None:
+                self._batches.append((batch, colour, width))
+        if selected in view.world_indices:
+            batch = self._batch([self._world_segments(view, selected, bodies)])
+            if batch is not None:
+                self._batches.append((batch, SELECTED_COLOR, 2.0))
+
+    def batches_for(self, context):
+        """The batches to draw now (rebuilt if their inputs changed); [] when there is nothing."""
+        view = SESSION.view
+        if view is None or not context.scene.mwb.show_paths:
+            return []
+        bodies = chosen_bodies(context, view)
+        selected = context.scene.mwb.selected_world
+        key = (id(view), view.version, bodies, selected)
+        if key != self._key:
+            if self._key is None or self._key[0] != id(view):
+                self._segments = {}
+            self._rebuild(view, bodies, selected)
+            self._key = key
+        return self._batches
+
+    # --- drawing --------------------------------------------------------------------------------
+
+    def draw(self):
+        context = bpy.context
+        batches = self.batches_for(context)
+        if not batches:
+            return
+        width = context.scene.mwb.path_width
+        region = context.region
+        blend, depth, line_width = gpu.state.blend_get(), gpu.state.depth_test_get(), gpu.state.line_width_get()
+        gpu.state.blend_set("ALPHA")
+        gpu.state.depth_test_set("LESS_EQUAL")
+        try:
+            self._shader.bind()
+            self._shader.uniform_float("viewportSize", (region.width, region.height))
+            for batch, colour, factor in batches:
+                self._shader.uniform_float("lineWidth", width * factor)
+                self._shader.uniform_float("color", colour)
+                batch.draw(self._shader)
+        finally:
+            gpu.state.blend_set(blend)
+            gpu.state.depth_test_set(depth)
+            gpu.state.line_width_set(line_width)
+
+
+OVERLAY = PathOverlay()

@@ -1,0 +1,40 @@
+"""Application handlers: restoring the browsing state on load, and the preview on frame change."""
+import bpy
+
+from . import preview
+from .core.session import SESSION
+from .draw import paths
+from .operators import browsing
+
+
+@bpy.app.handlers.persistent
+def on_load_post(*_args):
+    # A different file: the old library, engine and caches belong to the previous one.
+    from .operators import sampling
+    sampling.stop_for_unregister()
+    SESSION.close()
+    paths.OVERLAY.clear()
+    scene = bpy.context.scene
+    try:
+        browsing.open_library(scene)
+    except (IOError, ValueError) as error:
+        SESSION.last_error = f"Could not reopen the library: {error}"
+
+
+_HANDLERS = ((bpy.app.handlers.load_post, on_load_post),
+             (bpy.app.handlers.frame_change_pre, preview.on_frame_change))
+
+
+def add():
+    for handler_list, function in _HANDLERS:
+        if function not in handler_list:
+            handler_list.append(function)
+
+
+def remove():
+    for handler_list, function in _HANDLERS:
+        while function in handler_list:
+            handler_list.remove(function)
+
+
+classes = ()

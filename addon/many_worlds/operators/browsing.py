@@ -1,0 +1,100 @@
+"""Opening a library, keeping the world list in step with it, selecting worlds."""
+import os
+
+import bpy
+
+from .. import preview, props
+from ..core.library_view import LibraryView
+from ..core.session import SESSION
+
+
+def tag_redraw_all():
+    wm = bpy.context.window_manager
+    for window in (wm.windows if wm else []):
+        for area in window.screen.areas:
+            area.tag_redraw()
+
+
+def sync_world_list(scene):
+    """Append the worlds the list does not show yet (the list is saved; the library is the truth)."""
+    view = SESSION.view
+    settings = scene.mwb
+    if view is None:
+        return 0
+    listed = len(settings.worlds)
+    if listed > len(view.world_indices) or any(
+            settings.worlds[k].world_index != view.world_indices[k] for k in range(min(listed, 8))):
+        # A different or rewritten library: rebuild from scratch.
+        settings.worlds.clear()
+        listed = 0
+    for world in view.world_indices[listed:]:
+        item = settings.worlds.add()
+        item.world_index = world
+        summary = view.world_summary(world)
+        item.rest_s = summary["rest_s"]
+        item.collisions = summary["collisions"]
+        item.travel_m = summary["travel_m"]
+    return len(view.world_indices) - listed
+
+
+def open_library(scene, path=None):
+    """Open (or reopen) the scene's library and restore the selection; False if there is none yet."""
+    from .. import _native
+    path = path or props.resolved_library_path(scene)
+    SESSION.view = None
+    if not path or not os.path.isfile(path):
+        return False
+    SESSION.view = LibraryView(_native, path)
+    sync_world_list(scene)
+    settings = scene.mwb
+    if settings.selected_world in SESSION.view.world_indices:
+        # Set the index without its update callback re-entering the preview.
+        index = SESSION.view.world_indices.index(settings.selected_world)
+        if settings.world_list_index != index:
+            settings["world_list_index"] = index
+        if settings.previewing:
+            preview.apply(scene)
+    return True
+
+
+class MWB_OT_open_library(bpy.types.Operator):
+    """Open the scene's library file and list its worlds"""
+    bl_idname = "mwb.open_library"
+    bl_label = "Open Library"
+
+    def execute(self, context):
+        try:
+            found = open_library(context.scene)
+        except (IOError, ValueError) as error:
+            self.report({"ERROR"}, str(error))
+            return {"CANCELLED"}
+        if not found:
+            self.report({"WARNING"}, f"No library at {props.resolved_library_path(context.scene) or '(unsaved file)'}")
+            return {"CANCELLED"}
+        tag_redraw_all()
+        return {"FINISHED"}
+
+
+class MWB_OT_select_world(bpy.types.Operator):
+    """Preview one world (by its index in the library)"""
+    bl_idname = "mwb.select_world"
+    bl_label = "Select World"
+    bl_options = {"REGISTER", "UNDO"}
+
+    world: bpy.props.IntProperty(name="World", default=0)
+
+    @classmethod
+    def poll(cls, context):
+        return SESSION.view is not None
+
+    def execute(self, context):
+        view = SESSION.view
+        if self.world not in view.world_indices:
+            self.report({"ERROR"}, f"World {self.world} is not in the library")
+            return {"CANCELLED"}
+        # The list index's update callback sets selected_world and starts the preview.
+        context.scene.mwb.world_list_index = view.world_indices.index(self.world)
+        return {"FINISHED"}
+
+
+classes = (MWB_OT_open_library, MWB_OT_select_world)

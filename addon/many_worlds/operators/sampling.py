@@ -1,0 +1,216 @@
+"""Sample Worlds: export the scene, run mwb-engine as a child process, stream worlds in as they land.
+
+The engine writes each world to the library as it finishes; a `bpy.app.timers` poller reads its
+progress lines and polls the library, so paths appear in the viewport while the UI stays live.
+Cancel (button or Esc) sends SIGINT: the engine finishes the record it is writing and exits, and
+every finished world stays in the file. Sampling again appends the next range of worlds.
+"""
+import os
+import sys
+
+import bpy
+
+from .. import export, preview, props
+from ..core import engine as engine_process
+from ..core import paths
+from ..core.session import SESSION
+from . import browsing
+
+POLL_INTERVAL_S = 0.25
+
+
+def _set_status_text(text):
+    # The status bar belongs to the workspace; there is none in background mode.
+    workspace = getattr(bpy.context, "workspace", None)
+    if workspace is not None:
+        workspace.status_text_set(text)
+
+
+def next_world_index(view):
+    """First world index after every world (stored or rejected) the library already holds."""
+    if view is None:
+        return 0
+    seen = list(view.world_indices) + [r[0] for r in view.library.rejections]
+    return max(seen) + 1 if seen else 0
+
+
+def start_sampling(context):
+    """Export, validate and start the engine. Returns (ok, message, export problems)."""
+    scene = context.scene
+    settings = scene.mwb
+    if SESSION.engine is not None:
+        return False, "Sampling is already running", []
+    library = props.resolved_library_path(scene)
+    if not library:
+        return False, "Save the .blend first (the library is written next to it) or set a library path", []
+    # Export the user's scene, not the preview's poses.
+    preview.end(scene)
+    result, invalid = export.export_and_validate(context)
+    if result.scene is None or invalid:
+        return False, "The scene cannot be sampled: " + "; ".join(invalid or result.problems), result.problems
+    try:
+        engine = paths.engine_path()
+    except FileNotFoundError as error:
+        return False, str(error), result.problems
+    os.makedirs(os.path.dirname(library) or ".", exist_ok=True)
+    scene_json = paths.scene_json_path(library)
+    with open(scene_json, "w") as f:
+        f.write(result.to_json())
+    if os.path.isfile(library) and (SESSION.view is None or SESSION.view.path != library):
+        browsing.open_library(scene, library)
+    if SESSION.view is not None:
+        SESSION.view.poll()
+    first = next_world_index(SESSION.view)
+    argv = engine_process.sample_command(
+        engine, scene_json, library, settings.seed, first, settings.world_count, settings.threads,
+        duration_s=settings.duration_s, stop_at_rest=settings.stop_at_rest, alpha=settings.alpha,
+        position_error_m=settings.position_error_mm / 1000.0, rotation_error_deg=settings.rotation_error_deg)
+    SESSION.engine = engine_process.EngineRun(argv)
+    SESSION.sampling_scene = scene.name
+    SESSION.sampling_library = library
+    SESSION.last_error = ""
+    SESSION.status = f"Sampling worlds {first} to {first + settings.world_count - 1}"
+    if not bpy.app.timers.is_registered(poll_sampling):
+        bpy.app.timers.register(poll_sampling, first_interval=POLL_INTERVAL_S)
+    return True, SESSION.status, result.problems
+
+
+def _stream_worlds(scene):
+    """Open the library once the engine has written its header, then pick up new worlds."""
+    if SESSION.view is None or SESSION.view.path != SESSION.sampling_library:
+        if not os.path.isfile(SESSION.sampling_library):
+            return 0
+        try:
+            browsing.open_library(scene, SESSION.sampling_library)
+        except IOError:
+            return 0  # header not complete yet: try again on the next tick
+        return len(SESSION.view.world_indices) if SESSION.view else 0
+    added = SESSION.view.poll()
+    if added:
+        browsing.sync_world_list(scene)
+    return added
+
+
+def poll_sampling():
+    """Timer body: progress, streaming, and the end of the run. Returns the next interval or None."""
+    run = SESSION.engine
+    if run is None:
+        return None
+    scene = bpy.data.scenes.get(SESSION.sampling_scene)
+    finished = run.finished()
+    if scene is not None and _stream_worlds(scene):
+        browsing.tag_redraw_all()
+    done, total, _ = run.progress()
+    if not finished:
+        SESSION.status = f"Sampling: {done} / {total} worlds"
+        _set_status_text(f"Many Worlds: {SESSION.status} (Esc to cancel)")
+        return POLL_INTERVAL_S
+    failure = run.failure()
+    stored = len(SESSION.view.world_indices) if SESSION.view else 0
+    if failure:
+        if "holds another run" in failure:
+            failure += (" - the scene or settings changed since this library was sampled; set another "
+                        "library path (or remove the file) to start a new library")
+        SESSION.last_error = failure
+        SESSION.status = f"Sampling failed: {failure}"
+        print(f"Many Worlds: {SESSION.status}", file=sys.stderr)
+    elif run.cancel_requested:
+        SESSION.status = f"Sampling cancelled; the library keeps {stored} worlds"
+    else:
+        SESSION.status = f"Sampled {done} worlds; the library holds {stored}"
+    SESSION.engine = None
+    _set_status_text(None)
+    browsing.tag_redraw_all()
+    return None
+
+
+def cancel_sampling():
+    if SESSION.engine is not None:
+        SESSION.engine.cancel()
+
+
+def stop_for_unregister():
+    """Stop the engine and the poller (add-on disabled or Blender quitting); finished worlds stay."""
+    if bpy.app.timers.is_registered(poll_sampling):
+        bpy.app.timers.unregister(poll_sampling)
+    if SESSION.engine is not None:
+        SESSION.engine.cancel()
+        try:
+            SESSION.engine.wait(30)
+        except Exception:
+            SESSION.engine.kill()
+        SESSION.engine = None
+
+
+class MWB_OT_sample(bpy.types.Operator):
+    """Sample plausible worlds of the rigid body scene into the library (runs the engine in the background)"""
+    bl_idname = "mwb.sample"
+    bl_label = "Sample Worlds"
+
+    _timer = None
+
+    @classmethod
+    def poll(cls, context):
+        return SESSION.engine is None and context.scene.rigidbody_world is not None
+
+    def _start(self, context):
+        ok, message, problems = start_sampling(context)
+        for line in problems:
+            self.report({"WARNING"}, line)
+        self.report({"INFO"} if ok else {"ERROR"}, message)
+        return ok
+
+    def execute(self, context):
+        return {"FINISHED"} if self._start(context) else {"CANCELLED"}
+
+    def invoke(self, context, event):
+        if not self._start(context):
+            return {"CANCELLED"}
+        # Modal only to catch Esc and report the end; the timer poller does the work.
+        self._timer = context.window_manager.event_timer_add(POLL_INTERVAL_S, window=context.window)
+        context.window_manager.modal_handler_add(self)
+        return {"RUNNING_MODAL"}
+
+    def modal(self, context, event):
+        if event.type == "ESC" and event.value == "PRESS":
+            cancel_sampling()
+        if SESSION.engine is not None:
+            return {"PASS_THROUGH"}
+        context.window_manager.event_timer_remove(self._timer)
+        if SESSION.last_error:
+            self.report({"ERROR"}, SESSION.last_error)
+        else:
+            self.report({"INFO"}, SESSION.status)
+        return {"FINISHED"}
+
+
+class MWB_OT_cancel_sampling(bpy.types.Operator):
+    """Stop sampling; every finished world stays in the library"""
+    bl_idname = "mwb.cancel_sampling"
+    bl_label = "Cancel Sampling"
+
+    @classmethod
+    def poll(cls, context):
+        return SESSION.engine is not None
+
+    def execute(self, context):
+        cancel_sampling()
+        return {"FINISHED"}
+
+
+class MWB_OT_check_scene(bpy.types.Operator):
+    """List what the engine cannot run exactly as Blender would"""
+    bl_idname = "mwb.check_scene"
+    bl_label = "Check Scene"
+
+    def execute(self, context):
+        result, invalid = export.export_and_validate(context)
+        for line in result.problems + invalid:
+            self.report({"WARNING"}, line)
+        if not result.problems and not invalid:
+            self.report({"INFO"}, f"{len(result.scene['bodies'])} bodies, "
+                                  f"{len(result.scene['constraints'])} constraints: everything is supported")
+        return {"FINISHED"}
+
+
+classes = (MWB_OT_sample, MWB_OT_cancel_sampling, MWB_OT_check_scene)

@@ -1,0 +1,4 @@
+"""Panels and lists."""
+from . import lists, panels
+
+classes = (*lists.classes, *panels.classes)

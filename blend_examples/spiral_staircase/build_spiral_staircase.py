@@ -1,0 +1,322 @@
+"""Builds the spiral-staircase example: a simple articulated character tumbles down a three-turn
+spiral staircase.
+
+Goal: "the character falls all the way down the staircase without falling off". A random run goes
+down a few steps and then flies off the open side; the paper's user chained rare events with
+refinement (18 refinements) to get him to the bottom, and culled runs where he slid down on his back.
+
+The character is 10 capsules and a sphere joined by 10 GENERIC_SPRING constraints: ball joints
+(all three linear axes locked) with angular limits, and angular springs whose rest pose is the pose
+he is built in, hands over his head. The springs are the "simple set-point controller": they pull
+every joint back to the covering pose.
+
+Run:  blender -b --factory-startup --python blend_examples/spiral_staircase/build_spiral_staircase.py -- OUT.blend
+Everything is made from nothing with Blender's own rigid-body settings; variation ranges are ID
+custom properties (mwb_*) that the Many-Worlds add-on reads.
+"""
+import math
+import os
+import sys
+
+import bmesh
+import bpy
+from mathutils import Euler, Matrix, Vector
+
+FPS = 24
+FRAME_START, FRAME_END = 1, 240         # 10 s: long enough to tumble down all three turns
+SUBSTEPS, SOLVER_ITERATIONS = 10, 20    # more iterations keep the joint chain stiff
+WORLD_COUNT, SEED = 1000, 1
+COLLISION_MARGIN = 0.005
+ALL_COLLECTIONS = range(20)
+
+# staircase
+TURNS, STEPS_PER_TURN, RISE = 3, 16, 0.17
+STEP_COUNT = TURNS * STEPS_PER_TURN
+COLUMN_RADIUS, STAIR_RADIUS, STEP_THICKNESS = 0.25, 1.5, 0.08
+TOP_ANGLE = math.radians(90)            # the first step below the landing; the stair turns clockwise going down
+LANDING_STEPS = 3                        # the landing at the top is this many steps wide
+TOP_Z = (STEP_COUNT + 1) * RISE          # the landing's top surface; the last step is one rise above the ground
+
+# character (metres, kilograms), built standing in a local frame: x right, y forward, z up, feet at 0
+PART_MASS = {"Pelvis": 4.0, "Torso": 8.0, "Head": 2.5, "UpperArm": 1.2, "Forearm": 0.8, "Thigh": 2.5, "Shin": 1.5}
+START_RADIUS = 0.95                      # the character stands this far from the axis, mid-tread
+START_LEAN = math.radians(12)            # leaning forward over the first step, so he falls with no push
+
+
+# --- generic helpers ---------------------------------------------------------------------------
+
+def output_path():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    if len(argv) != 1:
+        sys.exit(f"usage: blender -b --factory-startup --python {os.path.basename(__file__)} -- OUTPUT.blend")
+    return os.path.abspath(argv[0])
+
+
+def material(name, rgb):
+    mat = bpy.data.materials.new(name)
+    mat.diffuse_color = (*rgb, 1.0)    # the solid-shading viewport colour
+    mat.use_nodes = True
+    mat.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (*rgb, 1.0)
+    return mat
+
+
+def mesh_object(name, build, location=(0, 0, 0), rotation=(0, 0, 0), mat=None):
+    """An object whose mesh `build(bm)` fills; origin at the shape's centre, unit scale, so the
+    rigid-body shape Blender derives from the bounds is the shape we mean."""
+    bm = bmesh.new()
+    build(bm)
+    mesh = bpy.data.meshes.new(name)
+    bm.to_mesh(mesh)
+    bm.free()
+    if mat:
+        mesh.materials.append(mat)
+    obj = bpy.data.objects.new(name, mesh)
+    obj.location, obj.rotation_euler = location, rotation
+    bpy.context.scene.collection.objects.link(obj)
+    return obj
+
+
+def box(name, size, **kw):
+    return mesh_object(name, lambda bm: bmesh.ops.create_cube(bm, size=1.0, matrix=Matrix.Diagonal((*size, 1.0))), **kw)
+
+
+
+
+def cylinder(name, radius, depth, **kw):
+    return mesh_object(name, lambda bm: bmesh.ops.create_cone(
+        bm, cap_ends=True, segments=32, radius1=radius, radius2=radius, depth=depth), **kw)
+
+
+def sphere(name, radius, **kw):
+    return mesh_object(name, lambda bm: bmesh.ops.create_uvsphere(bm, u_segments=32, v_segments=16, radius=radius), **kw)
+
+
+def capsule_geometry(bm, radius, length, rings=8, segments=24):
+    """A capsule along local Z, `length` from tip to tip (Blender's CAPSULE shape reads the bounds)."""
+    half = length / 2 - radius
+    lats = [(-math.pi / 2 + math.pi / 2 * i / rings, -half) for i in range(1, rings + 1)]
+    lats += [(math.pi / 2 * i / rings, half) for i in range(rings)]
+    grid = [[bm.verts.new((radius * math.cos(lat) * math.cos(2 * math.pi * j / segments),
+                           radius * math.cos(lat) * math.sin(2 * math.pi * j / segments),
+                           radius * math.sin(lat) + z)) for j in range(segments)] for lat, z in lats]
+    bottom, top = bm.verts.new((0, 0, -length / 2)), bm.verts.new((0, 0, length / 2))
+    for j in range(segments):
+        k = (j + 1) % segments
+        bm.faces.new((bottom, grid[0][k], grid[0][j]))
+        bm.faces.new((top, grid[-1][j], grid[-1][k]))
+        for a, b in zip(grid, grid[1:]):
+            bm.faces.new((a[j], a[k], b[k], b[j]))
+
+
+def capsule(name, radius, length, **kw):
+    return mesh_object(name, lambda bm: capsule_geometry(bm, radius, length), **kw)
+
+
+def rigid_body(obj, body_type, shape, mass=1.0, friction=0.5, restitution=0.0, damping=(0.04, 0.1),
+               collections=ALL_COLLECTIONS):
+    bpy.context.view_layer.objects.active = obj
+    bpy.ops.rigidbody.object_add(type=body_type)
+    rb = obj.rigid_body
+    rb.collision_shape, rb.mass, rb.friction, rb.restitution = shape, mass, friction, restitution
+    rb.linear_damping, rb.angular_damping = damping
+    # Blender's default margin (4 cm, used when this is off) is as large as the thinner limbs
+    rb.use_margin, rb.collision_margin = True, COLLISION_MARGIN
+    rb.collision_collections = [i in collections for i in range(20)]
+    return rb
+
+
+def constraint(name, kind, obj1, obj2, location, rotation=(0, 0, 0), **settings):
+    """A Rigid Body Constraint on a new empty; `settings` are RigidBodyConstraint attributes."""
+    empty = bpy.data.objects.new(name, None)
+    empty.empty_display_type, empty.empty_display_size = "ARROWS", 0.1
+    empty.location, empty.rotation_euler = location, rotation
+    bpy.context.scene.collection.objects.link(empty)
+    bpy.context.view_layer.objects.active = empty
+    bpy.ops.rigidbody.constraint_add(type=kind)
+    con = empty.rigid_body_constraint
+    con.object1, con.object2 = obj1, obj2
+    for key, value in settings.items():
+        setattr(con, key, value)
+    return con
+
+
+def variation(obj, location=(0, 0, 0), rotation=(0, 0, 0), linear_velocity=(0, 0, 0), angular_velocity=(0, 0, 0)):
+    """Symmetric ranges [-r, +r] per axis, world frame, added to the object's initial state."""
+    for key, r in (("location", location), ("rotation", rotation),
+                   ("linear_velocity", linear_velocity), ("angular_velocity", angular_velocity)):
+        obj[f"mwb_{key}_min"] = [-v for v in r]
+        obj[f"mwb_{key}_max"] = list(r)
+
+
+def look_at(obj, target):
+    obj.rotation_euler = (Vector(target) - obj.location).to_track_quat("-Z", "Y").to_euler()
+
+
+def camera_and_lights(location, target, lens=35.0):
+    scene = bpy.context.scene
+    cam = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    cam.data.lens = lens
+    cam.location = location
+    look_at(cam, target)
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    sun.data.energy, sun.data.angle = 3.0, math.radians(10)
+    sun.rotation_euler = Euler((math.radians(40), math.radians(15), math.radians(30)))
+    scene.collection.objects.link(sun)
+    world = bpy.data.worlds.new("World")
+    world.color = (0.05, 0.05, 0.06)
+    world.use_nodes = True
+    world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.25, 0.27, 0.3, 1.0)
+    scene.world = world
+
+
+def scene_settings(duration_s):
+    scene = bpy.context.scene
+    scene.render.fps = FPS
+    scene.frame_start, scene.frame_end = FRAME_START, FRAME_END
+    bpy.ops.rigidbody.world_add()
+    rbw = scene.rigidbody_world
+    rbw.substeps_per_frame, rbw.solver_iterations = SUBSTEPS, SOLVER_ITERATIONS
+    rbw.point_cache.frame_start, rbw.point_cache.frame_end = FRAME_START, FRAME_END
+    scene["mwb_world_count"], scene["mwb_seed"], scene["mwb_duration_s"] = WORLD_COUNT, SEED, duration_s
+
+
+
+
+# --- staircase ----------------------------------------------------------------------------------
+
+def step_angle(k):
+    return TOP_ANGLE - k * 2 * math.pi / STEPS_PER_TURN
+
+
+def step(name, angle, top_z, width_steps, mats):
+    """A passive box tread from the column to the outer radius, `width_steps` treads wide at the rim."""
+    arc = STAIR_RADIUS * 2 * math.pi / STEPS_PER_TURN * width_steps
+    radial = STAIR_RADIUS - COLUMN_RADIUS + 0.05
+    mid = (STAIR_RADIUS + COLUMN_RADIUS - 0.05) / 2
+    tread = box(name, (radial, arc, STEP_THICKNESS),
+                location=(mid * math.cos(angle), mid * math.sin(angle), top_z - STEP_THICKNESS / 2),
+                rotation=(0, 0, angle), mat=mats["step"])
+    rigid_body(tread, "PASSIVE", "BOX", friction=0.6)
+
+
+def build_staircase(mats):
+    """Treads descending clockwise round a central column, three full turns, no outer railing:
+    falling off the open side is exactly what the user wants to avoid."""
+    column = cylinder("Column", COLUMN_RADIUS, TOP_Z + 1.0, location=(0, 0, (TOP_Z + 1.0) / 2), mat=mats["column"])
+    rigid_body(column, "PASSIVE", "CYLINDER", friction=0.4)
+    ground = box("Ground", (12, 12, 0.2), location=(0, 0, -0.1), mat=mats["ground"])
+    rigid_body(ground, "PASSIVE", "BOX", friction=0.8)
+    landing_angle = step_angle(-(LANDING_STEPS + 1) / 2)
+    step("Landing", landing_angle, TOP_Z, LANDING_STEPS, mats)
+    for k in range(STEP_COUNT):
+        step(f"Step{k + 1:02d}", step_angle(k), TOP_Z - (k + 1) * RISE, 1.05, mats)
+
+
+# --- character ----------------------------------------------------------------------------------
+
+def joints_local():
+    """Joint positions of the covering-the-head pose in the character's local frame."""
+    j = {"waist": (0, 0, 0.76), "neck": (0, 0, 1.16), "head": (0, 0.01, 1.27)}
+    for side, s in (("L", -1), ("R", 1)):
+        j[f"shoulder{side}"] = (s * 0.19, 0, 1.06)
+        j[f"elbow{side}"] = (s * 0.24, 0.2, 1.2)      # upper arms forward and up...
+        j[f"hand{side}"] = (s * 0.1, 0.17, 1.4)       # ...forearms crossing in front of the face
+        j[f"hip{side}"] = (s * 0.09, 0, 0.64)
+        j[f"knee{side}"] = (s * 0.09, 0.03, 0.35)
+        j[f"ankle{side}"] = (s * 0.09, 0, 0.06)
+    return {k: Vector(v) for k, v in j.items()}
+
+
+def limb(name, start, end, radius, mass, placement, mats):
+    """A capsule whose axis runs from joint `start` to joint `end` (local points), its caps reaching a
+    radius beyond both, placed in the world by `placement`."""
+    axis = end - start
+    local = Matrix.Translation((start + end) / 2) @ Vector((0, 0, 1)).rotation_difference(axis).to_matrix().to_4x4()
+    world = placement @ local
+    part = capsule(name, radius, axis.length + 2 * radius, location=world.to_translation(),
+                   rotation=world.to_euler(), mat=mats["body"])
+    return part, mass
+
+
+def build_character(mats):
+    """11 bodies, 10 joints. Collision collections: every part has its own, the staircase has all of
+    them, so the character hits the stairs but not himself (his forearms sit close to his head)."""
+    heading = step_angle(-0.5) + math.pi             # facing clockwise, down the stairs
+    feet = Vector((START_RADIUS * math.cos(step_angle(-0.7)), START_RADIUS * math.sin(step_angle(-0.7)), TOP_Z + 0.005))
+    placement = Matrix.Translation(feet) @ Matrix.Rotation(heading, 4, "Z") @ Matrix.Rotation(-START_LEAN, 4, "X")
+    j = joints_local()
+    parts = {
+        "Pelvis": limb("Pelvis", j["hipL"] + Vector((0, 0, 0.04)), j["hipR"] + Vector((0, 0, 0.04)), 0.08,
+                       PART_MASS["Pelvis"], placement, mats),
+        "Torso": limb("Torso", j["waist"] + Vector((0, 0, 0.08)), j["neck"] - Vector((0, 0, 0.1)), 0.11,
+                      PART_MASS["Torso"], placement, mats),
+    }
+    head_world = placement @ j["head"]
+    parts["Head"] = (sphere("Head", 0.1, location=head_world, mat=mats["head"]), PART_MASS["Head"])
+    for side in ("L", "R"):
+        parts[f"UpperArm{side}"] = limb(f"UpperArm{side}", j[f"shoulder{side}"], j[f"elbow{side}"], 0.045,
+                                        PART_MASS["UpperArm"], placement, mats)
+        parts[f"Forearm{side}"] = limb(f"Forearm{side}", j[f"elbow{side}"], j[f"hand{side}"], 0.04,
+                                       PART_MASS["Forearm"], placement, mats)
+        parts[f"Thigh{side}"] = limb(f"Thigh{side}", j[f"hip{side}"], j[f"knee{side}"], 0.06,
+                                     PART_MASS["Thigh"], placement, mats)
+        parts[f"Shin{side}"] = limb(f"Shin{side}", j[f"knee{side}"], j[f"ankle{side}"], 0.05,
+                                    PART_MASS["Shin"], placement, mats)
+    for i, (name, (obj, mass)) in enumerate(parts.items()):
+        shape = "SPHERE" if name == "Head" else "CAPSULE"
+        rigid_body(obj, "ACTIVE", shape, mass=mass, friction=0.7, restitution=0.05, damping=(0.05, 0.2),
+                   collections={1 + i})
+    body = {name: obj for name, (obj, _) in parts.items()}
+    build_joints(body, j, placement)
+    # Only the torso varies, and only in velocity: a push. Offsetting the location of one part of a
+    # jointed body would just tear the joint; a velocity is passed on to the rest through the joints.
+    variation(body["Torso"], linear_velocity=(0.4, 0.4, 0.1), angular_velocity=(0.5, 0.5, 0.5))
+
+
+# (name, parent, child, joint, angular limit x/y/z in radians, spring stiffness N*m/rad)
+JOINTS = [("Waist", "Pelvis", "Torso", "waist", (0.6, 0.4, 0.5), 300.0),
+          ("Neck", "Torso", "Head", "neck", (0.6, 0.4, 0.8), 60.0)]
+for _side in ("L", "R"):
+    JOINTS += [(f"Shoulder{_side}", "Torso", f"UpperArm{_side}", f"shoulder{_side}", (1.0, 0.8, 0.8), 40.0),
+               (f"Elbow{_side}", f"UpperArm{_side}", f"Forearm{_side}", f"elbow{_side}", (1.0, 0.2, 0.3), 20.0),
+               (f"Hip{_side}", "Pelvis", f"Thigh{_side}", f"hip{_side}", (1.2, 0.5, 0.4), 200.0),
+               (f"Knee{_side}", f"Thigh{_side}", f"Shin{_side}", f"knee{_side}", (1.2, 0.15, 0.2), 120.0)]
+SPRING_DAMPING = 2.0                     # N*m*s/rad with SPRING2 springs: settles a limb within a fraction of a second
+
+
+def build_joints(body, j, placement):
+    """GENERIC_SPRING ball joints in the character's frame (X: pitch, Y: roll, Z: twist), limits
+    symmetric about the built pose, springs pulling back to it."""
+    orientation = placement.to_euler()
+    for name, parent, child, at, limits, stiffness in JOINTS:
+        settings = {"spring_type": "SPRING2"}
+        for axis in "xyz":
+            settings[f"use_limit_lin_{axis}"] = True                 # a ball joint: no linear freedom
+            settings[f"limit_lin_{axis}_lower"] = settings[f"limit_lin_{axis}_upper"] = 0.0
+        for axis, limit in zip("xyz", limits):
+            settings[f"use_limit_ang_{axis}"] = True
+            settings[f"limit_ang_{axis}_lower"], settings[f"limit_ang_{axis}_upper"] = -limit, limit
+            settings[f"use_spring_ang_{axis}"] = True
+            settings[f"spring_stiffness_ang_{axis}"] = stiffness
+            settings[f"spring_damping_ang_{axis}"] = SPRING_DAMPING
+        constraint(f"Joint{name}", "GENERIC_SPRING", body[parent], body[child], location=placement @ j[at],
+                   rotation=orientation, **settings)
+
+
+def main():
+    path = output_path()
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    bpy.context.scene.name = "spiral_staircase"
+    scene_settings(duration_s=0.0)
+    mats = {k: material(k, rgb) for k, rgb in {
+        "ground": (0.35, 0.38, 0.35), "column": (0.7, 0.68, 0.62), "step": (0.55, 0.42, 0.3),
+        "body": (0.2, 0.45, 0.8), "head": (0.95, 0.75, 0.6)}.items()}
+    build_staircase(mats)
+    build_character(mats)
+    camera_and_lights(location=(13.0, -13.0, 10.0), target=(0, 0, 4.6), lens=30)
+    bpy.ops.wm.save_as_mainfile(filepath=path, compress=True)
+
+
+main()

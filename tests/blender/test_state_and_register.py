@@ -1,0 +1,65 @@
+"""Browsing state survives save and reload; register/unregister leaves nothing behind."""
+import bpy
+import numpy as np
+
+from conftest import drop_scene, sample_and_wait, save_blend
+
+import many_worlds
+from many_worlds import handlers, preview
+from many_worlds.core.session import SESSION
+from many_worlds.draw import paths
+from many_worlds.operators import sampling
+
+
+def test_save_and_reopen_restores_library_and_selected_world(tmp_path):
+    _, boxes = drop_scene(bodies=1)
+    blend = save_blend(tmp_path)
+    bpy.context.scene.mwb.library_path = "//worlds/take1.mwb"
+    sample_and_wait(3)
+    bpy.ops.mwb.select_world(world=2)
+    original = np.array(bpy.context.scene.mwb.preview_saved[0].matrix_basis)
+    bpy.ops.wm.save_mainfile()
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    assert SESSION.view is None
+    bpy.ops.wm.open_mainfile(filepath=blend)
+    mwb = bpy.context.scene.mwb
+    assert mwb.library_path == "//worlds/take1.mwb"
+    assert SESSION.view is not None and SESSION.view.path == str(tmp_path / "worlds" / "take1.mwb")
+    assert sorted(SESSION.view.world_indices) == [0, 1, 2]
+    assert mwb.selected_world == 2 and mwb.worlds[mwb.world_list_index].world_index == 2
+    # Still previewing after the reload, and ending it puts the object back where the user had it.
+    assert mwb.previewing and bpy.context.scene.rigidbody_world.enabled is False
+    bpy.ops.mwb.end_preview()
+    box = bpy.data.objects["Box0"]
+    assert np.allclose(np.array([v for row in box.matrix_basis for v in row]), original)
+    assert bpy.context.scene.rigidbody_world.enabled is True
+
+
+def our_handlers():
+    lists = (bpy.app.handlers.load_post, bpy.app.handlers.frame_change_pre)
+    return [f for handler_list in lists for f in handler_list if f.__module__.startswith("many_worlds")]
+
+
+def test_register_unregister_cycles_leave_no_handlers_timers_or_draw_callbacks(tmp_path):
+    # The fixture registered the add-on once; start a run so there is a timer and a child process.
+    drop_scene(bodies=1, frame_end=240)
+    save_blend(tmp_path)
+    mwb = bpy.context.scene.mwb
+    mwb.world_count, mwb.threads = 2000, 1
+    bpy.ops.mwb.sample()
+    run = SESSION.engine
+    assert bpy.app.timers.is_registered(sampling.poll_sampling)
+    assert len(our_handlers()) == 2 and paths.OVERLAY.active
+    for _ in range(3):
+        many_worlds.unregister()
+        assert our_handlers() == []
+        assert not bpy.app.timers.is_registered(sampling.poll_sampling)
+        assert not paths.OVERLAY.active
+        assert not hasattr(bpy.types, "MWB_OT_sample") and not hasattr(bpy.types.Scene, "mwb")
+        many_worlds.register()
+        assert len(our_handlers()) == 2 and paths.OVERLAY.active
+        assert bpy.context.scene.mwb.world_count == 2000, "saved settings survive re-registration"
+    # Unregistering stopped the engine; the worlds it finished are in the file.
+    assert run.returncode() is not None and SESSION.engine is None
+    assert handlers.on_load_post in bpy.app.handlers.load_post
+    assert preview.on_frame_change in bpy.app.handlers.frame_change_pre

@@ -1,0 +1,157 @@
+"""The add-on's headless command line, run for real in `blender -b` on the quick-start example."""
+import json
+import os
+import signal
+import struct
+import subprocess
+import sys
+import time
+import zlib
+
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+CLI = os.path.join(ROOT, "addon", "many_worlds", "cli.py")
+QUICKSTART = os.path.join(ROOT, "blend_examples", "quickstart", "quickstart.blend")
+
+
+def cli(*args, blend=QUICKSTART, check=True):
+    command = ["blender", "-b", blend, "--python-exit-code", "1", "--python", CLI, "--", *args]
+    result = subprocess.run(command, capture_output=True, text=True)
+    if check:
+        assert result.returncode == 0, result.stdout[-1500:] + result.stderr[-1500:]
+    return result
+
+
+def output_lines(result):
+    """stdout without Blender's own banner lines."""
+    return [line for line in result.stdout.splitlines()
+            if line and not line.startswith(("Blender ", "Read ", "Info: ", "Warning: "))]
+
+
+@pytest.fixture(scope="module")
+def library(tmp_path_factory):
+    out = tmp_path_factory.mktemp("cli") / "q.mwb"
+    cli("sample", "--worlds", "0:12", "--out", str(out))
+    return out
+
+
+def test_info_reports_what_the_library_holds(library):
+    info = json.loads("\n".join(output_lines(cli("info", str(library), "--json"))))
+    assert info["worlds"] == 12 and info["rejected"] == 0
+    assert 0 < info["motion_bytes_per_body_frame"] < 28
+
+
+def test_query_of_the_whole_view_keeps_every_world_and_its_negative_none(library):
+    everything = output_lines(cli("query", str(library), "--box", "0,0,1,1"))
+    assert everything[0] == "12 of 12 worlds match"
+    nothing = output_lines(cli("query", str(library), "--box", "0,0,1,1", "--negative"))
+    assert nothing[0] == "0 of 12 worlds match"
+    # An empty corner of the view: no path enters it.
+    corner = json.loads(output_lines(cli("query", str(library), "--box", "0,0.95,0.05,1", "--json"))[0])
+    assert corner == {"worlds": 12, "matching": []}
+
+
+def test_rank_prints_worlds_sorted_by_the_metric(native_library_metrics):
+    ranked, expected = native_library_metrics
+    assert ranked == expected
+
+
+@pytest.fixture(scope="module")
+def native_library_metrics(library):
+    sys.path.insert(0, os.path.join(ROOT, "addon"))
+    from many_worlds import _native
+    lib = _native.Library(str(library))
+    bodies = [i for i, b in enumerate(json.loads(lib.header["scene_json"])["bodies"])
+              if b["type"] == "ACTIVE" and not b.get("kinematic", False)]
+    totals = {w: sum(lib.metrics(w)["path_length_m"][i] for i in bodies) for w in lib.world_indices}
+    expected = sorted(totals, key=lambda w: -totals[w])
+    lines = output_lines(cli("rank", str(library), "--metric", "path_length_m", "--desc"))
+    return [int(line.split()[0]) for line in lines], expected
+
+
+def test_bake_writes_a_blend_with_keys_and_no_rigid_bodies(library, tmp_path):
+    out = tmp_path / "baked.blend"
+    cli("bake", str(library), "--world", "5", "--out", str(out))
+    check = ("import bpy, sys\n"
+             "keyed = [o for o in bpy.data.objects if o.animation_data and o.animation_data.action]\n"
+             "assert keyed and all(o.rigid_body is None for o in keyed), 'baked objects keep no rigid body'\n"
+             "assert all(len(o.animation_data.action.fcurves) == 7 for o in keyed)\n")
+    result = subprocess.run(["blender", "-b", str(out), "--python-exit-code", "1", "--python-expr", check],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stderr[-1500:]
+
+
+def read_png(path):
+    data = path.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n"
+    width, height = struct.unpack(">II", data[16:24])
+    idat, at = b"", 8
+    while at < len(data):
+        length, tag = struct.unpack(">I4s", data[at:at + 8])
+        if tag == b"IDAT":
+            idat += data[at + 8:at + 8 + length]
+        at += 12 + length
+    raw = zlib.decompress(idat)
+    rows = [raw[y * (3 * width + 1) + 1:(y + 1) * (3 * width + 1)] for y in range(height)]
+    return width, height, rows
+
+
+def test_preview_draws_one_labelled_tile_per_world(library, tmp_path):
+    out = tmp_path / "sheet.png"
+    cli("preview", str(library), "--worlds", "0,1,2,3", "--out", str(out), "--tile-width", "200")
+    width, height, rows = read_png(out)
+    assert width == 2 * 202
+    background = bytes((24, 24, 28))
+    # Each tile shows path colours, not only background.
+    for ty in range(2):
+        for tx in range(2):
+            tile = [rows[y][3 * x:3 * x + 3] for y in range(ty * (height // 2) + 25, (ty + 1) * (height // 2) - 2)
+                    for x in range(tx * 202 + 2, (tx + 1) * 202 - 1)]
+            assert sum(p != background for p in tile) > 50
+
+
+@pytest.mark.parametrize("args,phrase", [
+    (["info", "/nonexistent.mwb"], "library not found: /nonexistent.mwb"),
+    (["query", "LIB", "--camera", "Nope", "--box", "0,0,1,1"], "no camera 'Nope'"),
+    (["query", "LIB", "--box", "0,0,2,1"], "fractions of the camera view"),
+    (["query", "LIB", "--box", "0,0,1,1", "--objects", "Teapot"], "unknown object 'Teapot'"),
+    (["query", "LIB", "--box", "0,0,1,1", "--time", "3,1"], "start after end"),
+    (["rank", "LIB", "--metric", "happiness"], "unknown metric 'happiness'"),
+    (["bake", "LIB", "--world", "999", "--out", "x.blend"], "no world 999"),
+    (["sample", "--worlds", "5:2", "--out", "x.mwb"], "empty or negative range"),
+    (["frobnicate"], "invalid choice"),
+])
+def test_user_mistakes_are_one_line_and_exit_2(library, args, phrase):
+    args = [str(library) if a == "LIB" else a for a in args]
+    result = cli(*args, check=False)
+    assert result.returncode == 2, result.stdout[-500:] + result.stderr[-500:]
+    errors = [line for line in result.stderr.splitlines() if line.startswith("many_worlds: error:")]
+    assert len(errors) == 1 and phrase in errors[0], result.stderr[-800:]
+    assert "Traceback" not in result.stderr
+
+
+def test_library_of_another_scene_is_refused(library, tmp_path):
+    empty = tmp_path / "empty.blend"
+    subprocess.run(["blender", "-b", "--factory-startup", "--python-expr",
+                    f"import bpy; bpy.ops.wm.read_factory_settings(use_empty=True); "
+                    f"bpy.ops.wm.save_as_mainfile(filepath={str(empty)!r})"], capture_output=True, check=True)
+    result = cli("query", str(library), "--box", "0,0,1,1", blend=str(empty), check=False)
+    assert result.returncode == 2 and "sampled from another scene" in result.stderr
+
+
+def test_ctrl_c_keeps_the_finished_worlds(tmp_path):
+    out = tmp_path / "interrupted.mwb"
+    command = ["blender", "-b", QUICKSTART, "--python-exit-code", "1", "--python", CLI, "--",
+               "sample", "--worlds", "0:3000", "--out", str(out), "--threads", "1"]
+    process = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    for line in process.stderr:
+        if "sampled 5/" in line:
+            process.send_signal(signal.SIGINT)
+            break
+    process.communicate(timeout=120)
+    sys.path.insert(0, os.path.join(ROOT, "addon"))
+    from many_worlds import _native
+    lib = _native.Library(str(out))
+    assert 5 <= len(lib.world_indices) < 3000
+    assert lib.warnings == []

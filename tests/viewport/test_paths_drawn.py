@@ -1,0 +1,123 @@
+"""Viewport test with the real UI under Xvfb: the path overlay is drawn.
+
+Run by tests/viewport/run.sh:
+  xvfb-run -a -s "-screen 0 1600x1000x24" blender --factory-startup --addons many_worlds paths.blend \
+      --python tests/viewport/test_paths_drawn.py -- OUT_DIR
+The add-on reopens the library on load (load_post). Screenshots of the window are taken with the
+paths on, with a world selected, and with the paths off; the 3D viewport's pixels must show the
+path colour (and the selected world's colour) only while drawing is on. Exit code 0 = pass.
+"""
+import json
+import os
+import sys
+import traceback
+
+import bpy
+import numpy as np
+
+from many_worlds.core.session import SESSION
+from many_worlds.draw import paths
+
+OUT_DIR = sys.argv[sys.argv.index("--") + 1]
+TICK_S = 0.5
+
+
+def colour_mask(rgb, colour, tolerance=0.12):
+    """Pixels within `tolerance` (per channel, display space) of an opaque overlay colour."""
+    return np.all(np.abs(rgb - np.array(colour[:3])) < tolerance, axis=-1)
+
+
+def viewport():
+    window = bpy.context.window_manager.windows[0]
+    area = max((a for a in window.screen.areas if a.type == "VIEW_3D"), key=lambda a: a.width * a.height)
+    region = next(r for r in area.regions if r.type == "WINDOW")
+    return window, area, region
+
+
+def screenshot(name):
+    window, area, region = viewport()
+    path = os.path.join(OUT_DIR, name)
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        bpy.ops.screen.screenshot(filepath=path)
+    image = bpy.data.images.load(path)
+    width, height = image.size
+    pixels = np.empty(width * height * 4, np.float32)
+    image.pixels.foreach_get(pixels)
+    bpy.data.images.remove(image)
+    rgb = pixels.reshape(height, width, 4)[..., :3]
+    # Blender images start at the bottom-left, like region coordinates within the window.
+    return rgb[region.y:region.y + region.height, region.x:region.x + region.width]
+
+
+def counts(rgb):
+    return {"matching": int(colour_mask(rgb, paths.MATCHING_COLOR).sum()),
+            "selected": int(colour_mask(rgb, paths.SELECTED_COLOR).sum())}
+
+
+def steps():
+    """Each yield waits one tick so the viewport redraws before the next screenshot."""
+    results = {}
+    scene = bpy.context.scene
+    window, area, region = viewport()
+    assert SESSION.view is not None, "the library was not reopened on load"
+    assert len(SESSION.view.world_indices) > 0
+    r3d = area.spaces.active.region_3d
+    r3d.view_location = (0.6, 0.0, 0.5)
+    r3d.view_distance = 4.0
+    # Hide the grid and the floor so only the overlay can produce coloured lines.
+    area.spaces.active.overlay.show_floor = False
+    for ob in bpy.data.objects:
+        ob.select_set(False)
+    scene.mwb.path_width = 3.0
+    area.tag_redraw()
+    yield
+    results["paths_on"] = counts(screenshot("paths_on.png"))
+    bpy.ops.mwb.select_world(world=SESSION.view.world_indices[0])
+    area.tag_redraw()
+    yield
+    results["world_selected"] = counts(screenshot("world_selected.png"))
+    scene.mwb.show_paths = False
+    area.tag_redraw()
+    yield
+    results["paths_off"] = counts(screenshot("paths_off.png"))
+    # The panels draw in the real UI (a drawing error would print a traceback, which run.sh fails on):
+    # the variation panel next to the Rigid Body settings, the sidebar with the sampling panel.
+    properties = next(a for a in window.screen.areas if a.type == "PROPERTIES")
+    bpy.context.view_layer.objects.active = bpy.data.objects["Box0"]
+    properties.spaces.active.context = "PHYSICS"
+    area.spaces.active.show_region_ui = True
+    sidebar = next(r for r in area.regions if r.type == "UI")
+    if hasattr(sidebar, "active_panel_category"):
+        sidebar.active_panel_category = "Many Worlds"
+    properties.tag_redraw()
+    area.tag_redraw()
+    yield
+    screenshot("panels.png")
+    with open(os.path.join(OUT_DIR, "result.json"), "w") as f:
+        json.dump(results, f, indent=1)
+    print("viewport pixel counts:", results)
+    assert results["paths_on"]["matching"] > 300, results
+    assert results["world_selected"]["selected"] > 100, results
+    assert results["world_selected"]["matching"] > 300, results
+    assert results["paths_off"]["matching"] < 20 and results["paths_off"]["selected"] < 20, results
+
+
+def main():
+    runner = steps()
+
+    def tick():
+        try:
+            next(runner)
+            return TICK_S
+        except StopIteration:
+            code = 0
+        except Exception:
+            traceback.print_exc()
+            code = 1
+        sys.stdout.flush()
+        os._exit(code)
+
+    bpy.app.timers.register(tick, first_interval=1.0)
+
+
+main()
