@@ -19,9 +19,13 @@ SamplingStatistics sample_worlds(const CompiledScene& compiled, uint64_t base_se
     return sample_world_list(compiled, base_seed, indices, threads, sink, progress);
 }
 
-SamplingStatistics sample_world_list(const CompiledScene& compiled, uint64_t base_seed,
-                                     const std::vector<uint64_t>& world_indices, int threads, const WorldSink& sink,
-                                     SamplingProgress* progress) {
+namespace {
+
+// Runs make_world(k) for k in [0, count) on `threads` threads and delivers each result in
+// completion order, never concurrently; the statistics count every outcome.
+template <typename MakeWorld>
+SamplingStatistics run_parallel(size_t count, int threads, const WorldSink& sink, SamplingProgress* progress,
+                                MakeWorld make_world) {
     const auto start = std::chrono::steady_clock::now();
     initialize_ode_once();
     SamplingStatistics stats;
@@ -30,12 +34,12 @@ SamplingStatistics sample_world_list(const CompiledScene& compiled, uint64_t bas
     std::atomic<bool> stop_for_error{false};
     const std::atomic<bool>* cancel = progress ? &progress->cancel : nullptr;
     const int thread_count = threads > 0 ? threads : omp_get_max_threads();
-    const auto count = static_cast<long long>(world_indices.size());
+    const auto total = static_cast<long long>(count);
     // Dynamic scheduling: world lengths vary a lot (early rest, rejections).
 #pragma omp parallel for num_threads(thread_count) schedule(dynamic, 1)
-    for (long long k = 0; k < count; ++k) {
+    for (long long k = 0; k < total; ++k) {
         if ((cancel && cancel->load(std::memory_order_relaxed)) || stop_for_error.load()) continue;
-        WorldResult world = simulate_world(compiled, base_seed, world_indices[static_cast<size_t>(k)], cancel);
+        WorldResult world = make_world(static_cast<size_t>(k), cancel);
         std::lock_guard<std::mutex> lock(sink_mutex);
         switch (world.status) {
             case WorldStatus::Ok: ++stats.worlds_ok; break;
@@ -57,6 +61,27 @@ SamplingStatistics sample_world_list(const CompiledScene& compiled, uint64_t bas
     if (sink_error) std::rethrow_exception(sink_error);
     stats.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return stats;
+}
+
+}  // namespace
+
+SamplingStatistics sample_world_list(const CompiledScene& compiled, uint64_t base_seed,
+                                     const std::vector<uint64_t>& world_indices, int threads, const WorldSink& sink,
+                                     SamplingProgress* progress) {
+    return run_parallel(world_indices.size(), threads, sink, progress,
+                        [&](size_t k, const std::atomic<bool>* cancel) {
+                            return simulate_world(compiled, base_seed, world_indices[k], cancel);
+                        });
+}
+
+SamplingStatistics refine_worlds(const CompiledScene& compiled, uint64_t base_seed, const std::vector<WorldResult>& chain,
+                                 const std::vector<RefineStep>& children, int threads, const WorldSink& sink,
+                                 SamplingProgress* progress) {
+    for (const RefineStep& child : children) check_refinement(compiled, chain, child);
+    return run_parallel(children.size(), threads, sink, progress,
+                        [&](size_t k, const std::atomic<bool>* cancel) {
+                            return refine_world(compiled, base_seed, chain, children[k], cancel);
+                        });
 }
 
 }  // namespace mwb

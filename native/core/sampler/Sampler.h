@@ -43,4 +43,10 @@ SamplingStatistics sample_world_list(const CompiledScene& compiled, uint64_t bas
                                      const std::vector<uint64_t>& world_indices, int threads, const WorldSink& sink,
                                      SamplingProgress* progress = nullptr);
 
+/// Refines the world at the end of `chain` (an exact lineage, see simulate_lineage) once per
+/// entry of `children`, in parallel; each child's perturbations come from its own world index.
+SamplingStatistics refine_worlds(const CompiledScene& compiled, uint64_t base_seed, const std::vector<WorldResult>& chain,
+                                 const std::vector<RefineStep>& children, int threads, const WorldSink& sink,
+                                 SamplingProgress* progress = nullptr);
+
 }  // namespace mwb

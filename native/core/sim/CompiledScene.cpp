@@ -14,6 +14,9 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kConeSegments = 24;
+// Ghosts replay stored motion; a centimetre more catches contacts the 1 mm codec error or the
+// 30 Hz replay could miss.
+constexpr double kGhostMargin_m = 0.01;
 
 Transform compose(const Transform& parent, const Transform& child) {
     return {add(parent.location, quat_rotate(parent.rotation, child.location)),
@@ -91,9 +94,10 @@ double part_bounding_radius(const CollisionPart& part) {
     return center;
 }
 
-void compile_shape(const Shape& shape, const Transform& placement, const Body& body, CompiledBody& out) {
-    const double margin = body.use_margin ? body.collision_margin_m : 0.0;
-    const Vec3& origin = out.body_frame_offset_m;
+// Appends the collision parts of `shape` (placed by `placement` in the object frame, grown by
+// `margin`) to `parts`, in the body frame whose origin is `origin` in the object frame.
+void compile_shape(const Shape& shape, const Transform& placement, double margin, const Vec3& origin,
+                   std::vector<CollisionPart>& parts, bool& has_mesh) {
     CollisionPart part;
     part.offset = {sub(placement.location, origin), placement.rotation};
     switch (shape.type) {
@@ -127,13 +131,14 @@ void compile_shape(const Shape& shape, const Transform& placement, const Body& b
             part.kind = PartKind::TriangleMesh;
             part.mesh_vertices = place_points(shape.vertices_m, placement, origin);
             part.mesh_indices = shape.triangles;
-            out.has_mesh = true;
+            has_mesh = true;
             break;
         case ShapeType::Compound:
-            for (const Shape& child : shape.children) compile_shape(child, compose(placement, child.offset), body, out);
+            for (const Shape& child : shape.children)
+                compile_shape(child, compose(placement, child.offset), margin, origin, parts, has_mesh);
             return;
     }
-    out.parts.push_back(std::move(part));
+    parts.push_back(std::move(part));
 }
 
 CompiledBody compile_body(const Body& body) {
@@ -145,7 +150,12 @@ CompiledBody compile_body(const Body& body) {
         out.body_frame_offset_m = body.has_center_of_mass ? body.center_of_mass_local_m : mass.center_of_mass_m;
         out.inertia = mass.inertia;
     }
-    compile_shape(body.shape, Transform{}, body, out);
+    const double margin = body.use_margin ? body.collision_margin_m : 0.0;
+    compile_shape(body.shape, Transform{}, margin, out.body_frame_offset_m, out.parts, out.has_mesh);
+    if (out.dynamic) {
+        bool ghost_mesh = false;
+        compile_shape(body.shape, Transform{}, margin + kGhostMargin_m, out.body_frame_offset_m, out.ghost_parts, ghost_mesh);
+    }
     for (const CollisionPart& part : out.parts)
         out.bounding_radius_m = std::max(out.bounding_radius_m, part_bounding_radius(part));
     return out;

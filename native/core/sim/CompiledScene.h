@@ -35,6 +35,8 @@ struct CompiledBody {
     std::array<double, 9> inertia{};    ///< about the centre of mass, object axes, for mass_kg
     double bounding_radius_m = 0;       ///< of all parts about the body frame origin
     std::vector<CollisionPart> parts;
+    /// Dynamic bodies: the same parts grown by 1 cm, for refinement ghosts.
+    std::vector<CollisionPart> ghost_parts;
     bool has_mesh = false;
 };
 

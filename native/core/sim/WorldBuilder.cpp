@@ -126,15 +126,14 @@ void OdeWorld::create_bodies() {
                 dBodySetKinematic(body);
             }
         }
-        create_geoms(i);
+        create_geoms(i, cb.parts, bodies_[i], false);
     }
 }
 
-void OdeWorld::create_geoms(size_t body_index) {
-    const CompiledBody& cb = compiled_.bodies()[body_index];
+void OdeWorld::create_geoms(size_t body_index, const std::vector<CollisionPart>& parts, dBodyID owner, bool ghost) {
     const Body& body = compiled_.scene().bodies[body_index];
     const uint32_t collections = body.collision_collections;
-    for (const CollisionPart& part : cb.parts) {
+    for (const CollisionPart& part : parts) {
         dGeomID geom = nullptr;
         switch (part.kind) {
             case PartKind::Box:
@@ -160,16 +159,17 @@ void OdeWorld::create_geoms(size_t body_index) {
             }
         }
         geoms_.push_back(geom);
+        if (ghost) ghost_geoms_[body_index].push_back(geom);
         dGeomSetData(geom, reinterpret_cast<void*>(static_cast<intptr_t>(geom_owners_.size())));
-        geom_owners_.push_back({static_cast<int32_t>(body_index), part.kind == PartKind::TriangleMesh});
+        geom_owners_.push_back({static_cast<int32_t>(body_index), part.kind == PartKind::TriangleMesh, ghost});
         // Blender bodies collide when they share a collision collection.
         dGeomSetCategoryBits(geom, collections);
         dGeomSetCollideBits(geom, collections);
         const bool primitive = part.kind != PartKind::Convex && part.kind != PartKind::TriangleMesh;
         dQuaternion q;
         to_ode_quaternion(part.offset.rotation, q);
-        if (bodies_[body_index]) {
-            dGeomSetBody(geom, bodies_[body_index]);
+        if (owner) {
+            dGeomSetBody(geom, owner);
             if (primitive) {
                 dGeomSetOffsetPosition(geom, part.offset.location[0], part.offset.location[1], part.offset.location[2]);
                 dGeomSetOffsetQuaternion(geom, q);
@@ -228,6 +228,30 @@ void OdeWorld::set_body_state(size_t i, const BodyState& s) {
     dBodySetQuaternion(body, q);
     dBodySetLinearVel(body, s.linear_velocity[0], s.linear_velocity[1], s.linear_velocity[2]);
     dBodySetAngularVel(body, s.angular_velocity[0], s.angular_velocity[1], s.angular_velocity[2]);
+}
+
+void OdeWorld::set_kinematic(size_t i, bool kinematic) {
+    if (!bodies_[i]) return;
+    if (kinematic) dBodySetKinematic(bodies_[i]);
+    else dBodySetDynamic(bodies_[i]);
+}
+
+void OdeWorld::add_ghost(size_t i) {
+    ghost_bodies_.resize(bodies_.size(), nullptr);
+    ghost_geoms_.resize(bodies_.size());
+    if (ghost_bodies_[i] || !compiled_.bodies()[i].dynamic) return;
+    dBodyID ghost = dBodyCreate(world_);
+    dBodySetKinematic(ghost);
+    ghost_bodies_[i] = ghost;
+    create_geoms(i, compiled_.bodies()[i].ghost_parts, ghost, true);
+}
+
+void OdeWorld::set_ghost_enabled(size_t i, bool enabled) {
+    if (i >= ghost_geoms_.size()) return;
+    for (dGeomID geom : ghost_geoms_[i]) {
+        if (enabled) dGeomEnable(geom);
+        else dGeomDisable(geom);
+    }
 }
 
 Transform OdeWorld::object_transform(size_t i) const {

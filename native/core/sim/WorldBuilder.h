@@ -41,6 +41,7 @@ struct OdeError : std::runtime_error {
 struct GeomOwner {
     int32_t body = -1;
     bool is_mesh = false;
+    bool ghost = false;  ///< a refinement ghost of `body`: detects contacts, never makes any
 };
 
 /// ODE joints making up one scene constraint (a generic constraint is a ball plus an angular motor).
@@ -74,9 +75,18 @@ public:
     /// Object-origin transform of body i right now.
     Transform object_transform(size_t i) const;
 
+    /// Refinement: a body stops being simulated and follows given poses, or starts again.
+    void set_kinematic(size_t i, bool kinematic);
+    /// Refinement: adds a non-colliding, slightly grown copy of dynamic body i that follows
+    /// given poses (set with ghost_body(i)).
+    void add_ghost(size_t i);
+    dBodyID ghost_body(size_t i) const { return i < ghost_bodies_.size() ? ghost_bodies_[i] : nullptr; }
+    /// Ghosts of earlier refinements leave collision detection; a later one may bring them back.
+    void set_ghost_enabled(size_t i, bool enabled);
+
 private:
     void create_bodies();
-    void create_geoms(size_t body_index);
+    void create_geoms(size_t body_index, const std::vector<CollisionPart>& parts, dBodyID body, bool ghost);
     void create_constraints();
     void create_constraint(size_t constraint_index);
 
@@ -87,6 +97,8 @@ private:
     dSpaceID space_ = nullptr;
     dJointGroupID contact_group_ = nullptr;
     std::vector<dBodyID> bodies_;
+    std::vector<dBodyID> ghost_bodies_;
+    std::vector<std::vector<dGeomID>> ghost_geoms_;
     std::vector<dGeomID> geoms_;
     std::vector<dTriMeshDataID> mesh_data_;
     std::vector<GeomOwner> geom_owners_;

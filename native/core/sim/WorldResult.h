@@ -46,6 +46,15 @@ constexpr int32_t kNoImpact = -2;
 
 enum class WorldStatus { Ok, Rejected, Cancelled };
 
+/// One refinement in a world's lineage: from `branch_step` on, `bodies` (and whatever they
+/// touch) are simulated anew with the perturbation stream of world `world_index`, while every
+/// other body replays the world refined.
+struct RefineStep {
+    uint64_t branch_step = 0;
+    uint64_t world_index = 0;
+    std::vector<uint32_t> bodies;
+};
+
 struct WorldResult {
     uint64_t world_index = 0;  ///< position in the run's seed range
     uint64_t seed = 0;         ///< derived from (base seed, world index)
@@ -63,6 +72,11 @@ struct WorldResult {
     std::vector<Checkpoint> checkpoints;   ///< time-ordered, first at t = 0
     uint32_t impacts_perturbed = 0;
     double simulated_time_s = 0;
+    /// Refined worlds: the original world and every refinement from it, this world's last.
+    uint64_t root_world = 0;
+    std::vector<RefineStep> lineage;
+    /// Refined worlds: per body, 1 if it moved differently from the parent (was simulated anew).
+    std::vector<uint8_t> changed;
 };
 
 }  // namespace mwb

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <mutex>
+#include <stdexcept>
 
 #include "sim/ImpactPerturber.h"
 #include "sim/OdeRandom.h"
@@ -84,6 +86,7 @@ class WorldRun {
 public:
     WorldRun(const CompiledScene& compiled, uint64_t base_seed, uint64_t world_index)
         : compiled_(compiled),
+          base_seed_(base_seed),
           seed_(derive_world_seed(base_seed, world_index)),
           perturbation_random_(derive_stream_seed(seed_, kPerturbationStream)),
           perturber_(compiled.parameters().alpha_linear, compiled.parameters().lobe_exponent),
@@ -98,6 +101,7 @@ public:
         const size_t n = compiled.bodies().size();
         rest_since_s_.assign(n, -1.0);
         impact_partner_.assign(n, kNoImpact);
+        for (const CompiledBody& body : compiled.bodies()) simulated_.push_back(body.dynamic ? 1 : 0);
         // Bullet's damping model, as Blender uses it: v *= (1 - d)^dt every step.
         for (const Body& body : compiled.scene().bodies) {
             linear_damping_factor_.push_back(std::pow(1.0 - body.linear_damping, compiled.physics_dt_s()));
@@ -128,6 +132,19 @@ public:
         first_frame_ = static_cast<uint32_t>(step_ / compiled_.steps_per_frame());
     }
 
+    /// Refinements to apply on the way: at steps[k].branch_step the run switches to simulating
+    /// steps[k].bodies while the other bodies replay *replays[k], which must be full-length.
+    void plan_refinements(const std::vector<RefineStep>& steps, const std::vector<const WorldResult*>& replays) {
+        steps_ = steps;
+        replays_ = replays;
+        result_.root_world = result_.world_index;
+        result_.lineage = steps;
+        if (!steps.empty()) {
+            result_.world_index = steps.back().world_index;
+            result_.seed = derive_world_seed(base_seed_, steps.back().world_index);
+        }
+    }
+
     WorldResult run(const std::atomic<bool>* cancel) {
         try {
             loop(cancel);
@@ -156,6 +173,8 @@ private:
                 }
             }
             if (stop || step_ >= compiled_.total_steps()) return;
+            while (next_refinement_ < steps_.size() && steps_[next_refinement_].branch_step == step_)
+                begin_refinement(next_refinement_++);
             step_once();
             if (result_.status == WorldStatus::Rejected) return;
             stop = (step_ + 1) % spf == 0 && compiled_.parameters().stop_at_rest && world_at_rest(time_at(step_ + 1));
@@ -169,7 +188,7 @@ private:
         generate_contacts();
         const size_t n = compiled_.bodies().size();
         for (size_t i = 0; i < n; ++i) {
-            if (!compiled_.bodies()[i].dynamic) continue;
+            if (!simulated_[i]) continue;
             previous_linear_[i] = from_ode(dBodyGetLinearVel(world_->bodies()[i]));
             previous_angular_[i] = from_ode(dBodyGetAngularVel(world_->bodies()[i]));
         }
@@ -180,13 +199,14 @@ private:
         dJointGroupEmpty(world_->contact_group());
         const double t_after = time_at(step_ + 1);
         for (size_t i = 0; i < n; ++i) {
-            if (!compiled_.bodies()[i].dynamic) continue;
+            if (!simulated_[i]) continue;
             if (!after_step(i, t_after)) return;
         }
         check_breaking_joints();
     }
 
     void drive_kinematic_bodies(double t) {
+        if (replay_) drive_replayed_bodies(t);
         const Scene& scene = compiled_.scene();
         const double dt_anim = 1.0 / compiled_.step_hz();
         for (size_t i = 0; i < scene.bodies.size(); ++i) {
@@ -212,6 +232,7 @@ private:
         dSpaceCollide(world_->space(), &candidates_, collect_pair);
         std::sort(candidates_.pairs.begin(), candidates_.pairs.end());
         deepest_partner_.assign(compiled_.bodies().size(), {-1, -1.0});
+        if (replay_) activate_touched_bodies();
         for (const CandidatePair& pair : candidates_.pairs) collide_pair(pair);
     }
 
@@ -220,9 +241,9 @@ private:
         dGeomID ga = pair.first, gb = pair.second;
         const GeomOwner& oa = owners[pair.first_index];
         const GeomOwner& ob = owners[pair.second_index];
-        if (oa.body == ob.body) return;
-        const bool moving_a = compiled_.bodies()[oa.body].dynamic;
-        const bool moving_b = compiled_.bodies()[ob.body].dynamic;
+        if (oa.body == ob.body || oa.ghost || ob.ghost) return;
+        const bool moving_a = simulated_[oa.body];
+        const bool moving_b = simulated_[ob.body];
         if (!moving_a && !moving_b) return;
         if (world_->collision_disabled(oa.body, ob.body)) return;
         dContactGeom contacts[kMaxContactsPerPair];
@@ -340,10 +361,177 @@ private:
             const CompiledBody& body = compiled_.bodies()[i];
             if (body.kinematic && !scene.bodies[i].animation.times_s.empty() && t < scene.bodies[i].animation.times_s.back())
                 return false;
-            if (body.dynamic && (rest_since_s_[i] < 0 || t - rest_since_s_[i] < compiled_.parameters().rest_duration_s))
+            if (simulated_[i] && (rest_since_s_[i] < 0 || t - rest_since_s_[i] < compiled_.parameters().rest_duration_s))
                 return false;
         }
-        return true;
+        // Replayed bodies are only defined while their world lasts.
+        return !replay_ || t >= replay_->simulated_time_s;
+    }
+
+    // --- refinement ---------------------------------------------------------------------
+
+    // Switches to refinement k: its bodies (and bodies jointed to them) are simulated, every other
+    // dynamic body replays the world being refined, and ghosts of the chosen bodies follow their
+    // old paths to find bodies they used to touch.
+    void begin_refinement(size_t k) {
+        replay_ = replays_[k];
+        branch_time_s_ = time_at(step_);
+        const size_t n = compiled_.bodies().size();
+        std::fill(simulated_.begin(), simulated_.end(), 0);
+        activated_at_s_.assign(n, std::numeric_limits<double>::infinity());
+        result_.changed.assign(n, 0);
+        for (uint32_t body : steps_[k].bodies) activate(body);
+        for (size_t i = 0; i < n; ++i)
+            if (compiled_.bodies()[i].dynamic && !simulated_[i]) world_->set_kinematic(i, true);
+        for (uint32_t body : ghosts_) world_->set_ghost_enabled(body, false);
+        ghosts_.clear();
+        for (uint32_t body : steps_[k].bodies) {
+            if (!compiled_.bodies()[body].dynamic) continue;
+            world_->add_ghost(body);
+            world_->set_ghost_enabled(body, true);
+            ghosts_.push_back(body);
+        }
+        perturbation_random_ = PortableRandom(derive_stream_seed(derive_world_seed(base_seed_, steps_[k].world_index),
+                                                                 kPerturbationStream));
+        drive_replayed_bodies(branch_time_s_);
+    }
+
+    // Starts simulating body i (and, through joints, its partners) from its replayed state.
+    void activate(uint32_t i) {
+        if (i >= simulated_.size() || simulated_[i] || !compiled_.bodies()[i].dynamic) return;
+        simulated_[i] = 1;
+        result_.changed[i] = 1;
+        activated_at_s_[i] = time_at(step_);
+        world_->set_kinematic(i, false);
+        impact_partner_[i] = kNoImpact;
+        rest_since_s_[i] = -1;
+        const Scene& scene = compiled_.scene();
+        const auto& groups = world_->joint_groups();
+        for (size_t c = 0; c < scene.constraints.size(); ++c) {
+            if (groups[c].joints.empty() || groups[c].broken) continue;
+            const int a = scene.body_index(scene.constraints[c].body_a);
+            const int b = scene.body_index(scene.constraints[c].body_b);
+            if (a == static_cast<int>(i) && b >= 0) activate(static_cast<uint32_t>(b));
+            if (b == static_cast<int>(i) && a >= 0) activate(static_cast<uint32_t>(a));
+        }
+    }
+
+    // A replayed body starts being simulated when a simulated body or a ghost touches it; repeated
+    // until nothing more changes, so the result does not depend on the order of the pairs.
+    void activate_touched_bodies() {
+        const auto& owners = world_->geom_owners();
+        for (bool changed = true; changed;) {
+            changed = false;
+            for (const CandidatePair& pair : candidates_.pairs) {
+                const GeomOwner& oa = owners[pair.first_index];
+                const GeomOwner& ob = owners[pair.second_index];
+                if (oa.body == ob.body || (oa.ghost && ob.ghost)) continue;
+                const bool active_a = oa.ghost || simulated_[oa.body];
+                const bool active_b = ob.ghost || simulated_[ob.body];
+                const bool replayed_a = !oa.ghost && replayed(oa.body);
+                const bool replayed_b = !ob.ghost && replayed(ob.body);
+                if (!((active_a && replayed_b) || (active_b && replayed_a))) continue;
+                if (world_->collision_disabled(oa.body, ob.body)) continue;
+                dContactGeom contact;
+                int count;
+                if (oa.is_mesh || ob.is_mesh) {
+                    std::lock_guard<std::mutex> lock(g_trimesh_mutex);
+                    count = dCollide(pair.first, pair.second, 1, &contact, sizeof(dContactGeom));
+                } else {
+                    count = dCollide(pair.first, pair.second, 1, &contact, sizeof(dContactGeom));
+                }
+                if (count == 0) continue;
+                activate(static_cast<uint32_t>(replayed_a ? oa.body : ob.body));
+                changed = true;
+            }
+        }
+    }
+
+    bool replayed(int32_t body) const { return compiled_.bodies()[body].dynamic && !simulated_[body]; }
+
+    // Pose of body i in the world being refined, at frame f (its last frame after its end).
+    Transform replay_frame(size_t i, uint32_t f) const {
+        const size_t frames = replay_->frame_count;
+        const size_t k = std::min<size_t>(f, frames - 1);
+        const double* p = &replay_->positions_m[(i * frames + k) * 3];
+        const double* q = &replay_->orientations[(i * frames + k) * 4];
+        return {{p[0], p[1], p[2]}, {q[0], q[1], q[2], q[3]}};
+    }
+
+    // The replayed pose between recorded frames, linear in position, normalized-linear in rotation.
+    Transform replay_pose(size_t i, double t) const {
+        const double frame = t * compiled_.parameters().record_hz;
+        const auto f = static_cast<uint32_t>(std::floor(frame));
+        const double u = frame - f;
+        const Transform a = replay_frame(i, f);
+        if (u <= 0) return a;
+        const Transform b = replay_frame(i, f + 1);
+        Quat qb = b.rotation;
+        if (dot4(a.rotation, qb) < 0) qb = {-qb[0], -qb[1], -qb[2], -qb[3]};
+        Quat q;
+        for (int k = 0; k < 4; ++k) q[k] = a.rotation[k] + (qb[k] - a.rotation[k]) * u;
+        return {add(a.location, scale(sub(b.location, a.location), u)), quat_normalized(q)};
+    }
+
+    static double dot4(const Quat& a, const Quat& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]; }
+
+    // Sets a body's centre of mass on the replayed path at t, moving towards where it is one step later.
+    void place_on_replay(dBodyID body, size_t i, double t) {
+        const double dt_anim = 1.0 / compiled_.step_hz();
+        const Vec3& offset = compiled_.bodies()[i].body_frame_offset_m;
+        const Transform now = replay_pose(i, t), next = replay_pose(i, t + dt_anim);
+        const Vec3 com_now = add(now.location, quat_rotate(now.rotation, offset));
+        const Vec3 com_next = add(next.location, quat_rotate(next.rotation, offset));
+        const double dt = compiled_.physics_dt_s();
+        const Vec3 v = scale(sub(com_next, com_now), 1.0 / dt);
+        const Vec3 w = angular_velocity_between(now.rotation, next.rotation, dt);
+        dBodySetPosition(body, com_now[0], com_now[1], com_now[2]);
+        dQuaternion q{now.rotation[0], now.rotation[1], now.rotation[2], now.rotation[3]};
+        dBodySetQuaternion(body, q);
+        dBodySetLinearVel(body, v[0], v[1], v[2]);
+        dBodySetAngularVel(body, w[0], w[1], w[2]);
+    }
+
+    void drive_replayed_bodies(double t) {
+        for (size_t i = 0; i < compiled_.bodies().size(); ++i)
+            if (replayed(static_cast<int32_t>(i))) place_on_replay(world_->bodies()[i], i, t);
+        for (uint32_t body : ghosts_) place_on_replay(world_->ghost_body(body), body, t);
+    }
+
+    // A refined world before its branch is its parent's; so are the events of bodies it did not
+    // touch, and of the others until they were touched.
+    void splice_parent() {
+        const size_t n = compiled_.bodies().size();
+        const size_t own = result_.frame_count;
+        const size_t head = first_frame_;
+        const size_t frames = head + own;
+        std::vector<double> positions(n * frames * 3), orientations(n * frames * 4);
+        for (size_t i = 0; i < n; ++i) {
+            for (size_t f = 0; f < head; ++f) {
+                const Transform pose = replay_frame(i, static_cast<uint32_t>(f));
+                std::copy(pose.location.begin(), pose.location.end(), &positions[(i * frames + f) * 3]);
+                std::copy(pose.rotation.begin(), pose.rotation.end(), &orientations[(i * frames + f) * 4]);
+            }
+            std::copy(&result_.positions_m[i * own * 3], &result_.positions_m[(i + 1) * own * 3],
+                      &positions[(i * frames + head) * 3]);
+            std::copy(&result_.orientations[i * own * 4], &result_.orientations[(i + 1) * own * 4],
+                      &orientations[(i * frames + head) * 4]);
+        }
+        result_.positions_m = std::move(positions);
+        result_.orientations = std::move(orientations);
+        result_.first_frame = 0;
+        result_.frame_count = static_cast<uint32_t>(frames);
+        std::vector<ContactEvent> events;
+        for (const ContactEvent& e : replay_->contacts)
+            if (e.time_s <= branch_time_s_ || (e.body >= 0 && e.time_s <= activated_at_s_[static_cast<size_t>(e.body)]))
+                events.push_back(e);
+        for (const ContactEvent& e : result_.contacts)
+            if (e.time_s > branch_time_s_ && e.body >= 0 && e.time_s > activated_at_s_[static_cast<size_t>(e.body)])
+                events.push_back(e);
+        std::stable_sort(events.begin(), events.end(), [](const ContactEvent& a, const ContactEvent& b) { return a.time_s < b.time_s; });
+        result_.contacts = std::move(events);
+        for (size_t i = 0; i < n; ++i)
+            if (!result_.changed[i]) result_.rest_time_s[i] = replay_->rest_time_s[i];
     }
 
     // ODE renormalizes a quaternion when it is set, and that normalization is not idempotent
@@ -361,7 +549,7 @@ private:
         c.bodies.reserve(n);
         for (size_t i = 0; i < n; ++i) {
             c.bodies.push_back(world_->body_state(i));
-            if (compiled_.bodies()[i].dynamic) world_->set_body_state(i, c.bodies.back());
+            if (simulated_[i]) world_->set_body_state(i, c.bodies.back());
         }
         for (const JointGroup& group : world_->joint_groups()) c.joint_broken.push_back(group.broken ? 1 : 0);
         c.ode_random_state = ode_random_state_;
@@ -372,7 +560,13 @@ private:
     }
 
     void record_frame() {
+        const uint32_t frame = static_cast<uint32_t>(step_ / compiled_.steps_per_frame());
         for (size_t i = 0; i < compiled_.bodies().size(); ++i) {
+            // A replayed body records its parent's frame itself, bit for bit.
+            if (replay_ && compiled_.bodies()[i].dynamic && !simulated_[i]) {
+                frames_.push_back(replay_frame(i, frame));
+                continue;
+            }
             Transform pose = world_->object_transform(i);
             if (compiled_.bodies()[i].kinematic)
                 pose = sample_animation(compiled_.scene().bodies[i].animation, time_at(step_), pose);
@@ -399,9 +593,11 @@ private:
         for (size_t i = 0; i < n; ++i)
             if (compiled_.bodies()[i].dynamic)
                 result_.rest_time_s[i] = rest_since_s_[i] >= 0 ? rest_since_s_[i] : result_.simulated_time_s;
+        if (replay_) splice_parent();
     }
 
     const CompiledScene& compiled_;
+    uint64_t base_seed_;
     uint64_t seed_;
     PortableRandom perturbation_random_;
     ImpactPerturber perturber_;
@@ -411,6 +607,14 @@ private:
     uint64_t step_ = 0;
     uint32_t first_frame_ = 0;
     const Checkpoint* restored_ = nullptr;
+    std::vector<uint8_t> simulated_;     ///< per body: stepped by ODE now (not fixed, animated or replayed)
+    std::vector<RefineStep> steps_;
+    std::vector<const WorldResult*> replays_;
+    size_t next_refinement_ = 0;
+    const WorldResult* replay_ = nullptr;  ///< the world being refined, once the last switch happened
+    std::vector<uint32_t> ghosts_;         ///< bodies whose ghost follows the replay
+    std::vector<double> activated_at_s_;   ///< per body: when it started being simulated anew
+    double branch_time_s_ = 0;
     uint64_t ode_random_state_ = 0;
     double impact_linear_threshold_ = 0;
     double impact_angular_threshold_ = 0;
@@ -454,6 +658,70 @@ WorldResult resume_world(const CompiledScene& compiled, uint64_t base_seed, uint
     WorldRun run(compiled, base_seed, world_index);
     run.restore(checkpoint);
     return run.run(cancel);
+}
+
+namespace {
+
+// Runs the lineage `steps` (each replaying its own parent world) from the original world's last
+// checkpoint before the first branch. A step that branches no later than an earlier one
+// supersedes it: the earlier switch never happens in this run.
+WorldResult run_refinements(const CompiledScene& compiled, uint64_t base_seed, const std::vector<WorldResult>& chain,
+                            const std::vector<RefineStep>& steps, const std::atomic<bool>* cancel) {
+    std::vector<RefineStep> effective;
+    std::vector<const WorldResult*> replays;
+    for (size_t k = steps.size(); k-- > 0;) {
+        if (!effective.empty() && steps[k].branch_step >= effective.front().branch_step) continue;
+        effective.insert(effective.begin(), steps[k]);
+        replays.insert(replays.begin(), &chain[k]);
+    }
+    const WorldResult& root = chain.front();
+    WorldRun run(compiled, base_seed, root.world_index);
+    const Checkpoint* start = nullptr;
+    for (const Checkpoint& c : root.checkpoints)
+        if (c.step_index <= effective.front().branch_step) start = &c;
+    if (start) run.restore(*start);
+    run.plan_refinements(effective, replays);
+    WorldResult result = run.run(cancel);
+    result.lineage = steps;
+    result.root_world = root.world_index;
+    return result;
+}
+
+}  // namespace
+
+void check_refinement(const CompiledScene& compiled, const std::vector<WorldResult>& chain, const RefineStep& step) {
+    if (chain.empty()) throw std::invalid_argument("refinement needs the world to refine");
+    const WorldResult& parent = chain.back();
+    if (parent.status != WorldStatus::Ok || parent.first_frame != 0)
+        throw std::invalid_argument("refinement needs a complete, valid parent world");
+    if (chain.size() != parent.lineage.size() + 1)
+        throw std::invalid_argument("the chain does not match the parent's lineage");
+    if (step.branch_step % compiled.steps_per_frame() != 0 ||
+        step.branch_step / compiled.steps_per_frame() >= parent.frame_count)
+        throw std::invalid_argument("branch step " + std::to_string(step.branch_step) + " is not a frame of the parent");
+    if (step.bodies.empty()) throw std::invalid_argument("refinement needs at least one body");
+    for (uint32_t body : step.bodies)
+        if (body >= compiled.bodies().size() || !compiled.bodies()[body].dynamic)
+            throw std::invalid_argument("body " + std::to_string(body) + " is not a simulated body");
+}
+
+WorldResult refine_world(const CompiledScene& compiled, uint64_t base_seed, const std::vector<WorldResult>& chain,
+                         const RefineStep& step, const std::atomic<bool>* cancel) {
+    check_refinement(compiled, chain, step);
+    std::vector<RefineStep> steps = chain.back().lineage;
+    steps.push_back(step);
+    return run_refinements(compiled, base_seed, chain, steps, cancel);
+}
+
+std::vector<WorldResult> simulate_lineage(const CompiledScene& compiled, uint64_t base_seed, uint64_t root_world,
+                                          const std::vector<RefineStep>& lineage, const std::atomic<bool>* cancel) {
+    std::vector<WorldResult> chain;
+    chain.push_back(simulate_world(compiled, base_seed, root_world, cancel));
+    for (const RefineStep& step : lineage) {
+        WorldResult next = refine_world(compiled, base_seed, chain, step, cancel);
+        chain.push_back(std::move(next));
+    }
+    return chain;
 }
 
 uint64_t hash_world(const WorldResult& world) {

@@ -19,6 +19,21 @@ WorldResult simulate_world(const CompiledScene& compiled, uint64_t base_seed, ui
 WorldResult resume_world(const CompiledScene& compiled, uint64_t base_seed, uint64_t world_index,
                          const Checkpoint& checkpoint, const std::atomic<bool>* cancel = nullptr);
 
+/// The exact worlds of a lineage: [0] is world `root_world`, [k] the world after lineage[0..k).
+/// Each refinement restarts from the original world's checkpoint at or before the first branch
+/// and replays every earlier refinement, so a refined world equals its parent bit for bit before
+/// its branch and every body it did not touch equals the parent for the whole world.
+std::vector<WorldResult> simulate_lineage(const CompiledScene& compiled, uint64_t base_seed, uint64_t root_world,
+                                          const std::vector<RefineStep>& lineage,
+                                          const std::atomic<bool>* cancel = nullptr);
+
+/// Throws std::invalid_argument (saying why) if `step` cannot refine the end of `chain`.
+void check_refinement(const CompiledScene& compiled, const std::vector<WorldResult>& chain, const RefineStep& step);
+
+/// One refinement of an exact lineage `chain` (as simulate_lineage returns): world `step`.
+WorldResult refine_world(const CompiledScene& compiled, uint64_t base_seed, const std::vector<WorldResult>& chain,
+                         const RefineStep& step, const std::atomic<bool>* cancel = nullptr);
+
 /// FNV-1a hash over everything a world recorded (motion, events, rest times, checkpoints).
 uint64_t hash_world(const WorldResult& world);
 
