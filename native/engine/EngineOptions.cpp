@@ -1,6 +1,7 @@
 #include "EngineOptions.h"
 
 #include <cmath>
+#include <algorithm>
 #include <cstdlib>
 
 namespace mwb {
@@ -41,13 +42,15 @@ const char* engine_usage() {
            "  mwb-engine sample --scene SCENE.json --out LIB.mwb [--seed S] [--worlds A:B | --count N]\n"
            "                    [--threads T] [--duration SECONDS] [--alpha A] [--no-perturb] [--no-stop-at-rest]\n"
            "                    [--position-error METRES] [--rotation-error DEGREES] [--progress]\n"
+           "  mwb-engine refine --library LIB.mwb --world W --bodies I,J --time SECONDS [--count N]\n"
+           "                    [--first-child K] [--threads T] [--progress]\n"
            "  mwb-engine info LIB.mwb [--json]\n"
            "  mwb-engine merge OUT.mwb LIB.mwb...\n"
            "  mwb-engine validate SCENE.json\n";
 }
 
 EngineOptions parse_engine_options(const std::vector<std::string>& args) {
-    if (args.empty()) throw UsageError("no command given (sample, info, merge or validate)");
+    if (args.empty()) throw UsageError("no command given (sample, refine, info, merge or validate)");
     EngineOptions options;
     options.command = args[0];
     std::vector<std::string> positional;
@@ -71,6 +74,19 @@ EngineOptions parse_engine_options(const std::vector<std::string>& args) {
         else if (flag == "--rotation-error") options.bounds.rotation_error_max_rad = parse_number(flag, value()) * kPi / 180;
         else if (flag == "--progress") options.progress = true;
         else if (flag == "--json") options.json = true;
+        else if (flag == "--library") options.output_path = value();
+        else if (flag == "--world") options.parent_world = parse_count(flag, value());
+        else if (flag == "--time") options.branch_time_s = parse_number(flag, value());
+        else if (flag == "--first-child") options.first_child = static_cast<int64_t>(parse_count(flag, value()));
+        else if (flag == "--bodies") {
+            const std::string list = value();
+            size_t start = 0;
+            while (start <= list.size()) {
+                const size_t comma = std::min(list.find(',', start), list.size());
+                options.bodies.push_back(static_cast<uint32_t>(parse_count(flag, list.substr(start, comma - start))));
+                start = comma + 1;
+            }
+        }
         else if (flag.rfind("--", 0) == 0) throw UsageError("unknown option " + flag);
         else positional.push_back(flag);
     }
@@ -79,6 +95,11 @@ EngineOptions parse_engine_options(const std::vector<std::string>& args) {
         if (options.world_count == 0) throw UsageError("--count must be at least 1");
         if (!(options.bounds.position_error_max_m > 0) || !(options.bounds.rotation_error_max_rad > 0))
             throw UsageError("codec error bounds must be positive");
+    } else if (options.command == "refine") {
+        if (options.output_path.empty()) throw UsageError("refine needs --library");
+        if (options.bodies.empty()) throw UsageError("refine needs --bodies");
+        if (options.branch_time_s < 0) throw UsageError("refine needs --time (seconds, >= 0)");
+        if (options.world_count == 0) throw UsageError("--count must be at least 1");
     } else if (options.command == "info" || options.command == "validate") {
         if (positional.size() != 1) throw UsageError(options.command + " takes exactly one file");
         options.inputs = positional;
@@ -87,9 +108,10 @@ EngineOptions parse_engine_options(const std::vector<std::string>& args) {
         options.output_path = positional[0];
         options.inputs.assign(positional.begin() + 1, positional.end());
     } else {
-        throw UsageError("unknown command '" + options.command + "' (sample, info, merge or validate)");
+        throw UsageError("unknown command '" + options.command + "' (sample, refine, info, merge or validate)");
     }
-    if (options.command != "sample" && options.command != "merge" && !options.output_path.empty())
+    if (options.command != "sample" && options.command != "merge" && options.command != "refine" &&
+        !options.output_path.empty())
         throw UsageError("--out is only for sample");
     return options;
 }

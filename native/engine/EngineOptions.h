@@ -17,7 +17,7 @@ struct UsageError : std::runtime_error {
 };
 
 struct EngineOptions {
-    std::string command;  ///< sample | info | merge | validate
+    std::string command;  ///< sample | refine | info | merge | validate
     std::string scene_path;
     std::string output_path;
     std::vector<std::string> inputs;
@@ -26,6 +26,10 @@ struct EngineOptions {
     uint64_t world_count = 16;
     int threads = 0;
     bool json = false;
+    uint64_t parent_world = 0;          ///< refine: the world to refine
+    std::vector<uint32_t> bodies;       ///< refine: scene body indices
+    double branch_time_s = -1;          ///< refine: where the new worlds leave the parent
+    int64_t first_child = -1;           ///< refine: index of the first new world (-1: after the last)
     bool progress = false;
     SimulationParameters parameters;
     CodecBounds bounds;

@@ -1,5 +1,7 @@
 // mwb-engine: samples worlds into a library file, and inspects and merges libraries. Blender's
 // add-on runs it as a child process; farm tasks run it (through Blender's CLI) per seed chunk.
+#include <algorithm>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <iostream>
@@ -15,6 +17,7 @@
 #include "library/LibraryWriter.h"
 #include "sampler/Sampler.h"
 #include "scene/SceneJson.h"
+#include "sim/WorldSimulator.h"
 
 namespace mwb {
 namespace {
@@ -52,6 +55,56 @@ int run_sample(const EngineOptions& options) {
               << present.size() << " already stored" << (g_progress.cancel ? ", cancelled" : "") << " in "
               << stats.wall_time_s << " s -> " << options.output_path << "\n";
     for (const auto& [reason, count] : stats.reject_reasons) std::cout << "  rejected " << count << ": " << reason << "\n";
+    return g_progress.cancel ? 130 : 0;
+}
+
+// Refines one stored world: re-creates its exact lineage, then appends `count` children that
+// branch at the given time, each with its own perturbations.
+int run_refine(const EngineOptions& options) {
+    const LibraryReader reader(options.output_path);
+    const RunHeader& header = reader.header();
+    CompiledScene compiled(scene_from_json(header.scene_json), header.parameters);
+    const StoredWorld* parent = nullptr;
+    uint64_t next_index = 0;
+    for (const StoredWorld& w : reader.worlds()) {
+        if (w.world_index == options.parent_world) parent = &w;
+        next_index = std::max(next_index, w.world_index + 1);
+    }
+    for (const StoredRejection& r : reader.rejections()) next_index = std::max(next_index, r.world_index + 1);
+    if (!parent) throw UsageError("no world " + std::to_string(options.parent_world) + " in " + options.output_path);
+    const uint64_t root = parent->lineage.empty() ? parent->world_index : parent->root_world;
+    std::vector<WorldResult> chain = simulate_lineage(compiled, header.base_seed, root, parent->lineage);
+    if (chain.back().frame_count != parent->frame_count || chain.back().contacts.size() != parent->contacts.size())
+        throw UsageError("world " + std::to_string(parent->world_index) + " does not come out as stored: the library "
+                         "was made by a different engine build");
+    const uint64_t frame = static_cast<uint64_t>(std::floor(options.branch_time_s * compiled.parameters().record_hz));
+    const uint64_t first = options.first_child >= 0 ? static_cast<uint64_t>(options.first_child) : next_index;
+    std::vector<RefineStep> children;
+    for (uint64_t k = 0; k < options.world_count; ++k)
+        children.push_back({frame * compiled.steps_per_frame(), first + k, options.bodies});
+    try {
+        check_refinement(compiled, chain, children.front());
+    } catch (const std::invalid_argument& error) {
+        throw UsageError(error.what());
+    }
+    LibraryWriter writer(options.output_path, header);
+    std::signal(SIGINT, request_cancel);
+    std::signal(SIGTERM, request_cancel);
+    uint64_t stored = 0;
+    const SamplingStatistics stats = refine_worlds(compiled, header.base_seed, chain, children, options.threads,
+                                                   [&](WorldResult&& world) {
+                                                       writer.append(world);
+                                                       if (world.status != WorldStatus::Cancelled) ++stored;
+                                                       if (options.progress) {
+                                                           std::cerr << "MWB-PROGRESS " << stored << " " << children.size()
+                                                                     << " world " << world.world_index << "\n";
+                                                           std::cerr.flush();
+                                                       }
+                                                   },
+                                                   &g_progress);
+    std::cout << "refined world " << parent->world_index << " at " << frame / compiled.parameters().record_hz
+              << " s into worlds " << first << ".." << first + options.world_count - 1 << ": " << stats.worlds_ok
+              << " stored, " << stats.worlds_rejected << " rejected in " << stats.wall_time_s << " s\n";
     return g_progress.cancel ? 130 : 0;
 }
 
@@ -109,6 +162,7 @@ int run_validate(const EngineOptions& options) {
 int run(const std::vector<std::string>& args) {
     const EngineOptions options = parse_engine_options(args);
     if (options.command == "sample") return run_sample(options);
+    if (options.command == "refine") return run_refine(options);
     if (options.command == "info") return run_info(options);
     if (options.command == "merge") return run_merge(options);
     return run_validate(options);

@@ -137,6 +137,15 @@ void bind_library(py::module_& m) {
             d["simulated_time_s"] = world.simulated_time_s;
             d["impacts_perturbed"] = world.impacts_perturbed;
             d["checkpoint_count"] = world.checkpoints.size();
+            d["root_world"] = world.lineage.empty() ? world.world_index : world.root_world;
+            py::list lineage;
+            for (const RefineStep& step : world.lineage)
+                lineage.append(py::make_tuple(static_cast<double>(step.branch_step) / world.step_hz, step.world_index,
+                                              step.bodies));
+            d["lineage"] = lineage;
+            std::vector<bool> changed;
+            for (const StoredTrack& t : world.tracks) changed.push_back(world.parent_world >= 0 && !t.inherited);
+            d["changed_bodies"] = changed;
             size_t bytes = 0;
             for (const StoredTrack& t : world.tracks) bytes += t.position.size() + t.rotation.size();
             d["motion_bytes"] = bytes;

@@ -158,3 +158,49 @@ def test_engine_user_mistakes_are_one_clear_line(engine, tmp_path, args, phrase)
     assert result.returncode != 0
     assert phrase in result.stderr.splitlines()[0] or phrase in result.stderr
     assert "Traceback" not in result.stderr and "terminate" not in result.stderr
+
+
+def test_refined_worlds_store_only_what_changed_and_read_back_whole(native, engine, tmp_path):
+    out = tmp_path / "refine.mwb"
+    sample(engine, out, "--worlds", "0:3")
+    scene = native.Scene.from_json(native.Library(str(out)).header["scene_json"])
+    die = scene.body_names.index("Die")
+    result = run_engine(engine, "refine", "--library", str(out), "--world", "1", "--bodies", str(die),
+                        "--time", "1.0", "--count", "4", "--threads", "2")
+    assert result.returncode == 0, result.stderr
+    lib = native.Library(str(out))
+    assert sorted(lib.world_indices) == [0, 1, 2, 3, 4, 5, 6]
+    parent_positions = lib.positions(1)
+    for child in (3, 4, 5, 6):
+        info = lib.world_info(child)
+        assert info["parent_world"] == 1 and info["root_world"] == 1
+        assert info["branch_time_s"] == 1.0 and info["lineage"] == [(1.0, child, [die])]
+        changed = info["changed_bodies"]
+        assert changed[die]
+        positions = lib.positions(child)
+        assert positions.shape[0] == len(scene.body_names)
+        bound = lib.header["position_error_max_m"]
+        # Before the branch every body is where the parent was (both decoded within the bound).
+        branch = 120
+        assert np.abs(positions[:, :branch + 1] - parent_positions[:, :branch + 1]).max() <= 2 * bound
+        # Untouched bodies are the parent's own stored track.
+        for body, moved in enumerate(changed):
+            if not moved:
+                frames = min(positions.shape[1], parent_positions.shape[1])
+                np.testing.assert_array_equal(positions[body, :frames], parent_positions[body, :frames])
+    # A grandchild: refining a refined world works through the stored lineage.
+    result = run_engine(engine, "refine", "--library", str(out), "--world", "4", "--bodies", str(die),
+                        "--time", "2.0", "--count", "1")
+    assert result.returncode == 0, result.stderr
+    grandchild = native.Library(str(out)).world_info(7)
+    assert grandchild["parent_world"] == 4 and [step[1] for step in grandchild["lineage"]] == [4, 7]
+
+
+def test_refine_mistakes_are_clear_errors(engine, tmp_path):
+    out = tmp_path / "r.mwb"
+    sample(engine, out, "--worlds", "0:1")
+    for args, phrase in ((["--world", "9", "--bodies", "2", "--time", "1"], "no world 9"),
+                         (["--world", "0", "--bodies", "0", "--time", "1"], "not a simulated body"),
+                         (["--world", "0", "--bodies", "2", "--time", "99"], "not a frame of the parent")):
+        result = run_engine(engine, "refine", "--library", str(out), *args)
+        assert result.returncode == 2 and phrase in result.stderr, result.stderr

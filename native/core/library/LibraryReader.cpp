@@ -102,9 +102,12 @@ void LibraryReader::parse_records(const std::vector<uint8_t>& bytes, uint64_t ba
 bool LibraryReader::accept_record(RawRecord&& record) {
     const std::string where = path_ + ", record at byte " + std::to_string(record.offset);
     try {
-        if (record.type == kRecordTypeWorld && record.version == kWorldRecordVersion) {
-            StoredWorld world = decode_world_record(record.payload.data(), record.payload.size(), where);
+        if (record.type == kRecordTypeWorld && record.version >= kOldestWorldRecordVersion &&
+            record.version <= kWorldRecordVersion) {
+            StoredWorld world = decode_world_record(record.payload.data(), record.payload.size(), record.version, where);
+            if (world.parent_world >= 0) inherit_from_parent(world, where);
             if (options_.polyline_hz > 0) derive_polyline(world, options_.polyline_hz);
+            positions_[world.world_index] = worlds_.size();
             worlds_.push_back(std::move(world));
         } else if (record.type == kRecordTypeRejection && record.version == kRejectionRecordVersion) {
             rejections_.push_back(decode_rejection_record(record.payload.data(), record.payload.size(), where));
@@ -122,6 +125,37 @@ bool LibraryReader::accept_record(RawRecord&& record) {
     }
     if (options_.keep_raw_records) raw_.push_back(std::move(record));
     return true;
+}
+
+void LibraryReader::inherit_from_parent(StoredWorld& world, const std::string& where) const {
+    const auto it = positions_.find(static_cast<uint64_t>(world.parent_world));
+    if (it == positions_.end())
+        throw LibraryError(where + ": its parent world " + std::to_string(world.parent_world) + " is not in this file");
+    const StoredWorld& parent = worlds_[it->second];
+    std::vector<StoredTrack> tracks;
+    std::vector<MetricValues> metrics = world.metrics;
+    for (MetricValues& m : metrics) m.per_body.clear();
+    size_t own = 0;
+    for (uint32_t body = 0; body < world.scene_body_count; ++body) {
+        if (own < world.tracks.size() && world.tracks[own].body == body) {
+            tracks.push_back(std::move(world.tracks[own]));
+            for (size_t m = 0; m < metrics.size(); ++m) metrics[m].per_body.push_back(world.metrics[m].per_body[own]);
+            ++own;
+            continue;
+        }
+        if (body >= parent.tracks.size()) throw LibraryError(where + ": its parent lacks body " + std::to_string(body));
+        StoredTrack inherited = parent.tracks[body];
+        inherited.inherited = true;
+        tracks.push_back(std::move(inherited));
+        for (size_t m = 0; m < metrics.size(); ++m) {
+            const auto& parent_metrics = parent.metrics;
+            const bool found = m < parent_metrics.size() && parent_metrics[m].name == metrics[m].name;
+            metrics[m].per_body.push_back(found ? parent_metrics[m].per_body[body] : 0.0);
+        }
+    }
+    if (own != world.tracks.size()) throw LibraryError(where + ": tracks out of body order");
+    world.tracks = std::move(tracks);
+    world.metrics = std::move(metrics);
 }
 
 size_t LibraryReader::poll() {

@@ -3,6 +3,7 @@
 // was not (torn last record, checksum mismatch, unknown record versions). Can follow a file that
 // is still being written.
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -56,11 +57,14 @@ private:
     void read_header(const std::vector<uint8_t>& bytes);
     void parse_records(const std::vector<uint8_t>& bytes, uint64_t base_offset, bool at_end);
     bool accept_record(RawRecord&& record);
+    /// A refined world stores only changed bodies; the rest come from its parent, read earlier.
+    void inherit_from_parent(StoredWorld& world, const std::string& where) const;
 
     std::string path_;
     ReaderOptions options_;
     RunHeader header_;
     std::vector<StoredWorld> worlds_;
+    std::map<uint64_t, size_t> positions_;  ///< world index -> position in worlds_
     std::vector<StoredRejection> rejections_;
     std::vector<RawRecord> raw_;
     std::vector<std::string> warnings_;

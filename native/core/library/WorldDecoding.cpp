@@ -10,13 +10,26 @@
 namespace mwb {
 namespace {
 
+// Decodes one track into `out` (world frames × width): a track of the world's own length must
+// match it; an inherited one is cut or held at its last frame to the world's length.
 template <typename Decoder>
-Decoder checked_decoder(const std::vector<uint8_t>& bytes, uint32_t frame_count, uint32_t body) {
-    Decoder decoder(bytes.data(), bytes.size());
-    if (decoder.frame_count() != frame_count)
-        throw CodecError("track of body " + std::to_string(body) + " has " + std::to_string(decoder.frame_count()) +
-                         " frames, its world " + std::to_string(frame_count));
-    return decoder;
+void decode_track(const std::vector<uint8_t>& bytes, const StoredTrack& track, uint32_t world_frames, int width,
+                  double* out) {
+    const Decoder decoder(bytes.data(), bytes.size());
+    const uint32_t frames = decoder.frame_count();
+    if (frames == world_frames) {
+        decoder.decode_all(out);
+        return;
+    }
+    if (!track.inherited || frames == 0)
+        throw CodecError("track of body " + std::to_string(track.body) + " has " + std::to_string(frames) +
+                         " frames, its world " + std::to_string(world_frames));
+    std::vector<double> own(size_t{frames} * width);
+    decoder.decode_all(own.data());
+    for (uint32_t f = 0; f < world_frames; ++f) {
+        const size_t from = std::min(f, frames - 1);
+        std::copy(&own[from * width], &own[from * width] + width, out + size_t{f} * width);
+    }
 }
 
 }  // namespace
@@ -25,8 +38,8 @@ std::vector<double> decode_world_positions(const StoredWorld& world) {
     const size_t frames = world.frame_count;
     std::vector<double> out(world.tracks.size() * frames * 3);
     for (size_t t = 0; t < world.tracks.size(); ++t)
-        checked_decoder<PositionTrackDecoder>(world.tracks[t].position, world.frame_count, world.tracks[t].body)
-            .decode_all(&out[t * frames * 3]);
+        decode_track<PositionTrackDecoder>(world.tracks[t].position, world.tracks[t], world.frame_count, 3,
+                                           &out[t * frames * 3]);
     return out;
 }
 
@@ -34,8 +47,8 @@ std::vector<double> decode_world_orientations(const StoredWorld& world) {
     const size_t frames = world.frame_count;
     std::vector<double> out(world.tracks.size() * frames * 4);
     for (size_t t = 0; t < world.tracks.size(); ++t)
-        checked_decoder<RotationTrackDecoder>(world.tracks[t].rotation, world.frame_count, world.tracks[t].body)
-            .decode_all(&out[t * frames * 4]);
+        decode_track<RotationTrackDecoder>(world.tracks[t].rotation, world.tracks[t], world.frame_count, 4,
+                                           &out[t * frames * 4]);
     return out;
 }
 
@@ -58,10 +71,14 @@ void derive_polyline(StoredWorld& world, double rate_hz) {
 
 Transform decode_pose(const StoredWorld& world, size_t track, uint32_t frame) {
     const StoredTrack& t = world.tracks.at(track);
-    if (frame >= world.frame_count) throw CodecError("frame " + std::to_string(frame) + " beyond the world's " +
-                                                     std::to_string(world.frame_count));
-    return {PositionTrackDecoder(t.position.data(), t.position.size()).sample(frame),
-            RotationTrackDecoder(t.rotation.data(), t.rotation.size()).sample(frame)};
+    if (frame >= world.frame_count)
+        throw CodecError("frame " + std::to_string(frame) + " beyond the world's " + std::to_string(world.frame_count));
+    const PositionTrackDecoder position(t.position.data(), t.position.size());
+    const RotationTrackDecoder rotation(t.rotation.data(), t.rotation.size());
+    if (position.frame_count() == 0 || rotation.frame_count() == 0) throw CodecError("empty track");
+    // Inherited tracks hold their last frame past their end.
+    return {position.sample(std::min(frame, position.frame_count() - 1)),
+            rotation.sample(std::min(frame, rotation.frame_count() - 1))};
 }
 
 }  // namespace mwb

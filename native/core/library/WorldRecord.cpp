@@ -17,7 +17,7 @@ std::vector<uint8_t> copy_blob(ByteReader& in) {
 
 }  // namespace
 
-StoredWorld decode_world_record(const uint8_t* data, size_t size, const std::string& where) {
+StoredWorld decode_world_record(const uint8_t* data, size_t size, uint32_t version, const std::string& where) {
     ByteReader in(data, size, where);
     StoredWorld w;
     w.world_index = in.get<uint64_t>();
@@ -59,6 +59,21 @@ StoredWorld decode_world_record(const uint8_t* data, size_t size, const std::str
                                       std::to_string(track_count) + " tracks");
         m.per_body.resize(n);
         for (double& v : m.per_body) v = in.get<double>();
+    }
+    if (version >= 2) {
+        w.root_world = in.get<uint64_t>();
+        const size_t steps = in.get_count(8 + 8 + 4);
+        w.lineage.resize(steps);
+        for (RefineStep& step : w.lineage) {
+            step.branch_step = in.get<uint64_t>();
+            step.world_index = in.get<uint64_t>();
+            step.bodies.resize(in.get_count(4));
+            for (uint32_t& b : step.bodies) {
+                b = in.get<uint32_t>();
+                if (b >= w.scene_body_count) in.fail("refined body " + std::to_string(b) + " beyond the scene");
+            }
+        }
+        if (!w.lineage.empty() && w.lineage.back().world_index != w.world_index) in.fail("lineage ends at another world");
     }
     if (in.remaining() != 0) in.fail(std::to_string(in.remaining()) + " unexpected trailing bytes");
     return w;

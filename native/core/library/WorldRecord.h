@@ -12,8 +12,10 @@
 
 namespace mwb {
 
-/// Record payload layout version for worlds; bumped when the layout changes, never reused.
-constexpr uint32_t kWorldRecordVersion = 1;
+/// Record payload layout versions for worlds; a value never changes meaning.
+/// 1: the original layout. 2: adds the refinement lineage (root world, branch steps, bodies).
+constexpr uint32_t kWorldRecordVersion = 2;
+constexpr uint32_t kOldestWorldRecordVersion = 1;
 constexpr uint32_t kRejectionRecordVersion = 1;
 
 /// One body's compressed motion (codec track formats) in a stored world.
@@ -22,6 +24,9 @@ struct StoredTrack {
     std::vector<uint8_t> position;
     std::vector<uint8_t> rotation;
     double rest_time_s = 0;
+    /// Filled in on load from the parent world (a refined world stores only what changed); may
+    /// hold fewer or more frames than the world: decoding holds or cuts at the world's length.
+    bool inherited = false;
 };
 
 struct StoredWorld {
@@ -40,6 +45,8 @@ struct StoredWorld {
     std::vector<ContactEvent> contacts;
     std::vector<Checkpoint> checkpoints;
     std::vector<MetricValues> metrics;  ///< per_body aligned with tracks
+    uint64_t root_world = 0;            ///< refined worlds: the sampled world they descend from
+    std::vector<RefineStep> lineage;    ///< refined worlds: every refinement from the root, this one last
     /// Derived on load, not stored: each track's origin path down-sampled for drawing and
     /// queries, (tracks, polyline_points, 3) float32; every polyline_stride-th frame plus the last.
     std::vector<float> polyline;
@@ -53,8 +60,9 @@ struct StoredRejection {
     std::string reason;
 };
 
-/// Parses a world record payload; throws LibraryError (naming `where`) on any inconsistency.
-StoredWorld decode_world_record(const uint8_t* data, size_t size, const std::string& where);
+/// Parses a world record payload of layout `version`; throws LibraryError (naming `where`) on any
+/// inconsistency.
+StoredWorld decode_world_record(const uint8_t* data, size_t size, uint32_t version, const std::string& where);
 StoredRejection decode_rejection_record(const uint8_t* data, size_t size, const std::string& where);
 
 }  // namespace mwb

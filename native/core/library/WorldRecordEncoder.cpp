@@ -8,11 +8,18 @@
 namespace mwb {
 
 std::vector<uint8_t> encode_world_record(const WorldResult& world, const CodecBounds& bounds, const Vec3& gravity) {
+    // A refined world stores only the bodies that moved differently from its parent.
+    std::vector<uint32_t> stored;
+    for (uint32_t b = 0; b < world.body_count; ++b)
+        if (world.lineage.empty() || (b < world.changed.size() && world.changed[b])) stored.push_back(b);
+    const int64_t parent = world.lineage.empty() ? -1
+                           : world.lineage.size() == 1 ? static_cast<int64_t>(world.root_world)
+                                                       : static_cast<int64_t>(world.lineage[world.lineage.size() - 2].world_index);
     ByteWriter out;
     out.put(world.world_index);
     out.put(world.seed);
-    out.put(int64_t{-1});
-    out.put(0.0);
+    out.put(parent);
+    out.put(world.lineage.empty() ? 0.0 : static_cast<double>(world.lineage.back().branch_step) / world.step_hz);
     out.put(world.record_hz);
     out.put(world.step_hz);
     out.put(world.first_frame);
@@ -20,9 +27,9 @@ std::vector<uint8_t> encode_world_record(const WorldResult& world, const CodecBo
     out.put(world.body_count);
     out.put(world.simulated_time_s);
     out.put(world.impacts_perturbed);
-    out.put(world.body_count);  // track count: every body
+    out.put(static_cast<uint32_t>(stored.size()));
     const size_t frames = world.frame_count;
-    for (uint32_t b = 0; b < world.body_count; ++b) {
+    for (uint32_t b : stored) {
         out.put(b);
         out.put_blob(encode_position_track(&world.positions_m[b * frames * 3], world.frame_count, 1.0 / world.record_hz,
                                            gravity, bounds.position_error_max_m));
@@ -43,8 +50,16 @@ std::vector<uint8_t> encode_world_record(const WorldResult& world, const CodecBo
     out.put(static_cast<uint32_t>(metrics.size()));
     for (const MetricValues& m : metrics) {
         out.put_string(m.name);
-        out.put(static_cast<uint32_t>(m.per_body.size()));
-        for (double v : m.per_body) out.put(v);
+        out.put(static_cast<uint32_t>(stored.size()));
+        for (uint32_t b : stored) out.put(m.per_body[b]);
+    }
+    out.put(world.root_world);
+    out.put(static_cast<uint32_t>(world.lineage.size()));
+    for (const RefineStep& step : world.lineage) {
+        out.put(step.branch_step);
+        out.put(step.world_index);
+        out.put(static_cast<uint32_t>(step.bodies.size()));
+        for (uint32_t b : step.bodies) out.put(b);
     }
     return std::move(out.bytes());
 }
