@@ -1,0 +1,55 @@
+// Refinement benchmarks: a refined world against a full one of the same 50-body scene, and the
+// time from a refinement request to the first refined world stored in a library.
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "BenchReport.h"
+#include "library/LibraryReader.h"
+#include "library/LibraryWriter.h"
+#include "sampler/Sampler.h"
+#include "scene/SceneJson.h"
+#include "sim/WorldSimulator.h"
+
+int main() {
+    using namespace mwb;
+    using namespace mwb::bench;
+    std::printf("Refinement\n");
+    SimulationParameters parameters;
+    parameters.stop_at_rest = false;  // the same length for every world compared
+    CompiledScene pile(load_scene_file(data_path("pile50.json")), parameters);
+    const uint64_t late = static_cast<uint64_t>(std::llround(3.5 * 120)) * pile.steps_per_frame();
+    const uint32_t body = 30;  // a box in the middle of the pile
+    double full_s = 0, refined_s = 0;
+    const int worlds = 4;
+    for (int w = 0; w < worlds; ++w) {
+        auto start = std::chrono::steady_clock::now();
+        const std::vector<WorldResult> chain = simulate_lineage(pile, 1, static_cast<uint64_t>(w), {});
+        full_s += seconds_since(start);
+        start = std::chrono::steady_clock::now();
+        refine_world(pile, 1, chain, {late, 1000 + static_cast<uint64_t>(w), {body}});
+        refined_s += seconds_since(start);
+    }
+    report("refine_speedup_vs_full", refined_s / full_s, "x",
+           "time per refined world / per full world; one box refined at 3.5 of 5 s (lower is faster)");
+
+    // From the request (library on disk) to the first refined world stored.
+    const std::string library = (std::filesystem::temp_directory_path() / "mwb_bench_refine.mwb").string();
+    std::filesystem::remove(library);
+    const Scene quickstart = load_scene_file(std::string(MWB_BENCH_DIR) + "/../scenes/quickstart.json");
+    const RunHeader header{scene_to_json(quickstart), SimulationParameters{}, CodecBounds{}, 1};
+    CompiledScene compiled(quickstart, header.parameters);
+    {
+        LibraryWriter writer(library, header);
+        sample_worlds(compiled, 1, 0, 8, 0, [&](WorldResult&& w) { writer.append(w); });
+    }
+    const auto start = std::chrono::steady_clock::now();
+    const LibraryReader reader(library);
+    const StoredWorld& parent = reader.worlds()[3];
+    const std::vector<WorldResult> chain = simulate_lineage(compiled, 1, parent.world_index, {});
+    LibraryWriter writer(library, reader.header());
+    writer.append(refine_world(compiled, 1, chain, {120 * compiled.steps_per_frame(), 100, {2}}));
+    report("refine_first_world_s", seconds_since(start), "s", "quick-start scene, request to first refined world stored");
+    std::filesystem::remove(library);
+    return 0;
+}
