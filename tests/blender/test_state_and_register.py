@@ -7,7 +7,7 @@ from conftest import drop_scene, sample_and_wait, save_blend
 import many_worlds
 from many_worlds import handlers, preview
 from many_worlds.core.session import SESSION
-from many_worlds.draw import paths
+from many_worlds.draw import boxes, paths
 from many_worlds.operators import sampling
 
 
@@ -36,8 +36,14 @@ def test_save_and_reopen_restores_library_and_selected_world(tmp_path):
 
 
 def our_handlers():
-    lists = (bpy.app.handlers.load_post, bpy.app.handlers.frame_change_pre)
+    lists = (bpy.app.handlers.load_post, bpy.app.handlers.frame_change_pre, bpy.app.handlers.undo_post,
+             bpy.app.handlers.redo_post)
     return [f for handler_list in lists for f in handler_list if f.__module__.startswith("many_worlds")]
+
+
+def our_keymap_items():
+    keyconfig = bpy.context.window_manager.keyconfigs.addon
+    return [item for keymap in keyconfig.keymaps for item in keymap.keymap_items if item.idname.startswith("mwb.")]
 
 
 def test_register_unregister_cycles_leave_no_handlers_timers_or_draw_callbacks(tmp_path):
@@ -49,15 +55,18 @@ def test_register_unregister_cycles_leave_no_handlers_timers_or_draw_callbacks(t
     bpy.ops.mwb.sample()
     run = SESSION.engine
     assert bpy.app.timers.is_registered(sampling.poll_sampling)
-    assert len(our_handlers()) == 2 and paths.OVERLAY.active
+    assert len(our_handlers()) == 4 and paths.OVERLAY.active and boxes.OVERLAY.active
+    assert len(our_keymap_items()) == 2
     for _ in range(3):
         many_worlds.unregister()
-        assert our_handlers() == []
+        assert our_handlers() == [] and our_keymap_items() == []
         assert not bpy.app.timers.is_registered(sampling.poll_sampling)
-        assert not paths.OVERLAY.active
+        assert not paths.OVERLAY.active and not boxes.OVERLAY.active
         assert not hasattr(bpy.types, "MWB_OT_sample") and not hasattr(bpy.types.Scene, "mwb")
+        assert not hasattr(bpy.types, "MWB_OT_draw_box") and not hasattr(bpy.types, "MWB_UL_ranking")
         many_worlds.register()
-        assert len(our_handlers()) == 2 and paths.OVERLAY.active
+        assert len(our_handlers()) == 4 and paths.OVERLAY.active and boxes.OVERLAY.active
+        assert len(our_keymap_items()) == 2
         assert bpy.context.scene.mwb.world_count == 2000, "saved settings survive re-registration"
     # Unregistering stopped the engine; the worlds it finished are in the file.
     assert run.returncode() is not None and SESSION.engine is None

@@ -1,20 +1,25 @@
 #!/bin/sh
 # Viewport test under Xvfb with the real Blender UI. Makes a throwaway Blender config, a .blend
-# with a sampled library, then checks the path overlay in screenshots. Keeps the screenshots in
-# $MWB_VIEWPORT_OUT (default: a temporary folder, printed).
+# with a sampled library, then runs one test script (default: test_paths_drawn.py) that checks
+# the overlays in screenshots. Keeps the screenshots in $MWB_VIEWPORT_OUT/<test name> (default: a
+# temporary folder, printed).
+#   tests/viewport/run.sh [test_box_tool.py]
 set -eu
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
+TEST=${1:-test_paths_drawn.py}
 WORK=$(mktemp -d)
-OUT=${MWB_VIEWPORT_OUT:-$WORK/out}
+OUT=${MWB_VIEWPORT_OUT:-$WORK/out}/${TEST%.py}
 mkdir -p "$OUT" "$WORK/tmp" "$WORK/config" "$WORK/scripts/addons"
 ln -s "$ROOT/addon/many_worlds" "$WORK/scripts/addons/many_worlds"
 export TMPDIR="$WORK/tmp" BLENDER_USER_CONFIG="$WORK/config" BLENDER_USER_SCRIPTS="$WORK/scripts"
 blender -b --factory-startup --python-exit-code 1 --python "$ROOT/tests/viewport/make_fixture.py" -- "$OUT" \
     > "$WORK/fixture.log" 2>&1 || { cat "$WORK/fixture.log"; exit 1; }
 status=0
+# --enable-event-simulate: the box tool test drives the mouse with window.event_simulate (real
+# input is ignored then, which also keeps the other test independent of the X server's pointer).
 timeout 300 xvfb-run -a -s "-screen 0 1600x1000x24" \
-    blender --factory-startup --addons many_worlds "$OUT/paths.blend" \
-    --python "$ROOT/tests/viewport/test_paths_drawn.py" -- "$OUT" > "$OUT/blender.log" 2>&1 || status=$?
+    blender --factory-startup --enable-event-simulate --addons many_worlds "$OUT/paths.blend" \
+    --python "$ROOT/tests/viewport/$TEST" -- "$OUT" > "$OUT/blender.log" 2>&1 || status=$?
 cat "$OUT/blender.log"
 # A Python error while drawing a panel or the overlay is only printed, never raised: fail on it.
 if grep -q "Traceback" "$OUT/blender.log"; then status=1; fi

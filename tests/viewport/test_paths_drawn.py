@@ -10,43 +10,22 @@ path colour (and the selected world's colour) only while drawing is on. Exit cod
 import json
 import os
 import sys
-import traceback
 
 import bpy
-import numpy as np
 
-from many_worlds.core.session import SESSION
-from many_worlds.draw import paths
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+from many_worlds.core.session import SESSION  # noqa: E402
+from many_worlds.draw import paths  # noqa: E402
+from viewport_helpers import colour_mask, viewport  # noqa: E402
+import viewport_helpers  # noqa: E402
 
 OUT_DIR = sys.argv[sys.argv.index("--") + 1]
 TICK_S = 0.5
 
 
-def colour_mask(rgb, colour, tolerance=0.12):
-    """Pixels within `tolerance` (per channel, display space) of an opaque overlay colour."""
-    return np.all(np.abs(rgb - np.array(colour[:3])) < tolerance, axis=-1)
-
-
-def viewport():
-    window = bpy.context.window_manager.windows[0]
-    area = max((a for a in window.screen.areas if a.type == "VIEW_3D"), key=lambda a: a.width * a.height)
-    region = next(r for r in area.regions if r.type == "WINDOW")
-    return window, area, region
-
-
 def screenshot(name):
-    window, area, region = viewport()
-    path = os.path.join(OUT_DIR, name)
-    with bpy.context.temp_override(window=window, area=area, region=region):
-        bpy.ops.screen.screenshot(filepath=path)
-    image = bpy.data.images.load(path)
-    width, height = image.size
-    pixels = np.empty(width * height * 4, np.float32)
-    image.pixels.foreach_get(pixels)
-    bpy.data.images.remove(image)
-    rgb = pixels.reshape(height, width, 4)[..., :3]
-    # Blender images start at the bottom-left, like region coordinates within the window.
-    return rgb[region.y:region.y + region.height, region.x:region.x + region.width]
+    return viewport_helpers.screenshot(OUT_DIR, name)
 
 
 def counts(rgb):
@@ -86,6 +65,9 @@ def steps():
     bpy.context.view_layer.objects.active = bpy.data.objects["Box0"]
     properties.spaces.active.context = "PHYSICS"
     area.spaces.active.show_region_ui = True
+    area.tag_redraw()
+    # Blender 4.x lets a script pick the sidebar tab only once the sidebar has drawn its tabs.
+    yield
     sidebar = next(r for r in area.regions if r.type == "UI")
     if hasattr(sidebar, "active_panel_category"):
         sidebar.active_panel_category = "Many Worlds"
@@ -102,22 +84,4 @@ def steps():
     assert results["paths_off"]["matching"] < 20 and results["paths_off"]["selected"] < 20, results
 
 
-def main():
-    runner = steps()
-
-    def tick():
-        try:
-            next(runner)
-            return TICK_S
-        except StopIteration:
-            code = 0
-        except Exception:
-            traceback.print_exc()
-            code = 1
-        sys.stdout.flush()
-        os._exit(code)
-
-    bpy.app.timers.register(tick, first_interval=1.0)
-
-
-main()
+viewport_helpers.run_steps(steps, TICK_S)

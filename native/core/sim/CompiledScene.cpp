@@ -94,10 +94,12 @@ double part_bounding_radius(const CollisionPart& part) {
     return center;
 }
 
-// Appends the collision parts of `shape` (placed by `placement` in the object frame, grown by
-// `margin`) to `parts`, in the body frame whose origin is `origin` in the object frame.
-void compile_shape(const Shape& shape, const Transform& placement, double margin, const Vec3& origin,
+// Appends the collision parts of `shape` (placed by `placement` in the object frame) to `parts`, in
+// the body frame whose origin is `origin` in the object frame. Like Blender's Bullet, a collision
+// margin lies inside primitive shapes and outside convex hulls; `grow` enlarges every part.
+void compile_shape(const Shape& shape, const Transform& placement, double hull_margin, double grow, const Vec3& origin,
                    std::vector<CollisionPart>& parts, bool& has_mesh) {
+    const double margin = grow;
     CollisionPart part;
     part.offset = {sub(placement.location, origin), placement.rotation};
     switch (shape.type) {
@@ -123,7 +125,8 @@ void compile_shape(const Shape& shape, const Transform& placement, double margin
         case ShapeType::ConvexHull: {
             std::vector<double> local = shape.type == ShapeType::Cone ? cone_points(shape.radius_m, shape.height_m)
                                                                       : shape.vertices_m;
-            if (margin > 0) inflate_points(local, margin);
+            const double outward = grow + (shape.type == ShapeType::ConvexHull ? hull_margin : 0.0);
+            if (outward > 0) inflate_points(local, outward);
             part = convex_part(place_points(local, placement, origin));
             break;
         }
@@ -135,7 +138,7 @@ void compile_shape(const Shape& shape, const Transform& placement, double margin
             break;
         case ShapeType::Compound:
             for (const Shape& child : shape.children)
-                compile_shape(child, compose(placement, child.offset), margin, origin, parts, has_mesh);
+                compile_shape(child, compose(placement, child.offset), hull_margin, grow, origin, parts, has_mesh);
             return;
     }
     parts.push_back(std::move(part));
@@ -151,10 +154,10 @@ CompiledBody compile_body(const Body& body) {
         out.inertia = mass.inertia;
     }
     const double margin = body.use_margin ? body.collision_margin_m : 0.0;
-    compile_shape(body.shape, Transform{}, margin, out.body_frame_offset_m, out.parts, out.has_mesh);
+    compile_shape(body.shape, Transform{}, margin, 0.0, out.body_frame_offset_m, out.parts, out.has_mesh);
     if (out.dynamic) {
         bool ghost_mesh = false;
-        compile_shape(body.shape, Transform{}, margin + kGhostMargin_m, out.body_frame_offset_m, out.ghost_parts, ghost_mesh);
+        compile_shape(body.shape, Transform{}, margin, kGhostMargin_m, out.body_frame_offset_m, out.ghost_parts, ghost_mesh);
     }
     for (const CollisionPart& part : out.parts)
         out.bounding_radius_m = std::max(out.bounding_radius_m, part_bounding_radius(part));

@@ -10,8 +10,16 @@ namespace {
 // ODE parameter ids of axis 1, 2, 3 differ by dParamGroup.
 int axis_param(int base, int axis) { return base + dParamGroup * axis; }
 
-void set_limits(dJointID joint, void (*set)(dJointID, int, dReal), int axis, bool enabled, double lower, double upper) {
+void set_limits(dJointID joint, void (*set)(dJointID, int, dReal), int axis, bool enabled, double lower, double upper,
+                bool flipped = false) {
     if (!enabled) return;
+    // Joint positions are measured from the first attached body; with the bodies swapped they
+    // change sign, and so do the limits.
+    if (flipped) {
+        const double swapped_lower = -upper;
+        upper = -lower;
+        lower = swapped_lower;
+    }
     // ODE ignores stops with lo > hi; set hi first so a raised lo is accepted.
     set(joint, axis_param(dParamHiStop, axis), upper);
     set(joint, axis_param(dParamLoStop, axis), lower);
@@ -42,7 +50,11 @@ void OdeWorld::create_constraint(size_t constraint_index) {
     dBodyID a = ia >= 0 ? bodies_[ia] : nullptr;
     dBodyID b = ib >= 0 ? bodies_[ib] : nullptr;
     if (!a && !b) return;  // both static: nothing can move
-    if (!a) std::swap(a, b);
+    // ODE needs the moving body first; Blender measures object A against object B, so limits,
+    // springs and motors of a swapped pair change sign.
+    const bool flipped = !a;
+    if (flipped) std::swap(a, b);
+    const double sign = flipped ? -1.0 : 1.0;
     const Vec3& p = c.frame.location;
     const Vec3 x_axis = quat_rotate(c.frame.rotation, {1, 0, 0});
     const Vec3 z_axis = quat_rotate(c.frame.rotation, {0, 0, 1});
@@ -69,14 +81,14 @@ void OdeWorld::create_constraint(size_t constraint_index) {
             dJointSetHingeAnchor(j, p[0], p[1], p[2]);
             dJointSetHingeAxis(j, z_axis[0], z_axis[1], z_axis[2]);
             set_limits(j, dJointSetHingeParam, 0, c.angular_limits.enabled[2], c.angular_limits.lower[2],
-                       c.angular_limits.upper[2]);
+                       c.angular_limits.upper[2], flipped);
             break;
         }
         case ConstraintType::Slider: {
             dJointID j = add_joint(dJointCreateSlider(world_, nullptr));
             dJointSetSliderAxis(j, x_axis[0], x_axis[1], x_axis[2]);
             set_limits(j, dJointSetSliderParam, 0, c.linear_limits.enabled[0], c.linear_limits.lower[0],
-                       c.linear_limits.upper[0]);
+                       c.linear_limits.upper[0], flipped);
             break;
         }
         case ConstraintType::Piston: {
@@ -84,9 +96,9 @@ void OdeWorld::create_constraint(size_t constraint_index) {
             dJointSetPistonAnchor(j, p[0], p[1], p[2]);
             dJointSetPistonAxis(j, x_axis[0], x_axis[1], x_axis[2]);
             set_limits(j, dJointSetPistonParam, 0, c.linear_limits.enabled[0], c.linear_limits.lower[0],
-                       c.linear_limits.upper[0]);
+                       c.linear_limits.upper[0], flipped);
             set_limits(j, dJointSetPistonParam, 1, c.angular_limits.enabled[0], c.angular_limits.lower[0],
-                       c.angular_limits.upper[0]);
+                       c.angular_limits.upper[0], flipped);
             break;
         }
         case ConstraintType::Generic:
@@ -103,7 +115,7 @@ void OdeWorld::create_constraint(size_t constraint_index) {
                 const bool spring = c.type == ConstraintType::GenericSpring && c.angular_springs.enabled[axis];
                 if (c.angular_limits.enabled[axis]) {
                     set_limits(motor, dJointSetAMotorParam, axis, true, c.angular_limits.lower[axis],
-                               c.angular_limits.upper[axis]);
+                               c.angular_limits.upper[axis], flipped);
                 } else if (spring) {
                     set_spring(motor, dJointSetAMotorParam, axis, c.angular_springs.stiffness[axis],
                                c.angular_springs.damping[axis], h);
@@ -116,13 +128,13 @@ void OdeWorld::create_constraint(size_t constraint_index) {
                 dJointID j = add_joint(dJointCreateAMotor(world_, nullptr));
                 dJointSetAMotorNumAxes(j, 1);
                 dJointSetAMotorAxis(j, 0, 1, x_axis[0], x_axis[1], x_axis[2]);
-                set_motor(j, dJointSetAMotorParam, c.motor_angular_target_velocity, c.motor_angular_max_impulse, h);
+                set_motor(j, dJointSetAMotorParam, sign * c.motor_angular_target_velocity, c.motor_angular_max_impulse, h);
             }
             if (c.motor_linear_enabled) {
                 dJointID j = add_joint(dJointCreateLMotor(world_, nullptr));
                 dJointSetLMotorNumAxes(j, 1);
                 dJointSetLMotorAxis(j, 0, 1, x_axis[0], x_axis[1], x_axis[2]);
-                set_motor(j, dJointSetLMotorParam, c.motor_linear_target_velocity, c.motor_linear_max_impulse, h);
+                set_motor(j, dJointSetLMotorParam, sign * c.motor_linear_target_velocity, c.motor_linear_max_impulse, h);
             }
             break;
         }

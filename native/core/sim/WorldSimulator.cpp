@@ -231,7 +231,7 @@ private:
         candidates_.pairs.clear();
         dSpaceCollide(world_->space(), &candidates_, collect_pair);
         std::sort(candidates_.pairs.begin(), candidates_.pairs.end());
-        deepest_partner_.assign(compiled_.bodies().size(), {-1, -1.0});
+        deepest_contact_.assign(compiled_.bodies().size(), DeepestContact{});
         if (replay_) activate_touched_bodies();
         for (const CandidatePair& pair : candidates_.pairs) collide_pair(pair);
     }
@@ -275,14 +275,34 @@ private:
             contact.geom = contacts[k];
             dJointID joint = dJointCreateContact(world_->world(), world_->contact_group(), &contact);
             dJointAttach(joint, ba, bb);
-            note_partner(oa.body, ob.body, contacts[k].depth);
-            note_partner(ob.body, oa.body, contacts[k].depth);
+            note_contact(oa.body, ob.body, contacts[k]);
+            note_contact(ob.body, oa.body, contacts[k]);
         }
     }
 
-    void note_partner(int32_t body, int32_t other, double depth) {
-        auto& slot = deepest_partner_[body];
-        if (depth > slot.second) slot = {other, depth};
+    void note_contact(int32_t body, int32_t other, const dContactGeom& contact) {
+        DeepestContact& slot = deepest_contact_[body];
+        if (contact.depth > slot.depth)
+            slot = {other, contact.depth, from_ode(contact.pos), from_ode(contact.normal)};
+    }
+
+    // Velocity at `point` of body i as the step began (a static body is still).
+    Vec3 point_velocity_before_step(int32_t i, const Vec3& point) const {
+        dBodyID body = world_->bodies()[i];
+        if (!body) return {0, 0, 0};
+        const bool stepped = simulated_[i];
+        const Vec3 v = stepped ? previous_linear_[i] : from_ode(dBodyGetLinearVel(body));
+        const Vec3 w = stepped ? previous_angular_[i] : from_ode(dBodyGetAngularVel(body));
+        return add(v, cross(w, sub(point, from_ode(dBodyGetPosition(body)))));
+    }
+
+    // How fast body i and its partner closed in along the contact normal: resting and riding
+    // contacts close at ~0, collisions at the impact speed.
+    double approach_speed(size_t i) const {
+        const DeepestContact& c = deepest_contact_[i];
+        const Vec3 relative = sub(point_velocity_before_step(static_cast<int32_t>(i), c.point),
+                                  point_velocity_before_step(c.other, c.point));
+        return std::fabs(dot(relative, c.normal));
     }
 
     // Impact detection, perturbation, damping, explosion check and rest tracking for body i.
@@ -296,8 +316,10 @@ private:
         const Vec3 delta_w = sub(w, previous_angular_[i]);
         // Only collisions are impacts: joint and motor forces also change velocities but are not
         // events an observer would judge, and perturbing them would add noise to every chain.
-        const int32_t partner = deepest_partner_[i].first;
-        const bool touched = partner >= 0;
+        // Resting and riding contacts jitter under the iterative solver; only bodies that ran into
+        // each other faster than the linear threshold collide.
+        const int32_t partner = deepest_contact_[i].other;
+        const bool touched = partner >= 0 && approach_speed(i) > impact_linear_threshold_;
         const bool linear_impact = touched && norm(delta_v) > impact_linear_threshold_;
         const bool angular_impact = touched && norm(delta_w) > impact_angular_threshold_;
         // Rolling and sliding keep velocities changing step after step; that is one collision,
@@ -306,7 +328,7 @@ private:
         const bool new_collision = significant && impact_partner_[i] != partner;
         impact_partner_[i] = significant ? partner : kNoImpact;
         if (new_collision) {
-            result_.contacts.push_back({t_after, static_cast<int32_t>(i), deepest_partner_[i].first,
+            result_.contacts.push_back({t_after, static_cast<int32_t>(i), partner,
                                         world_->initial_states()[i].mass_kg * norm(delta_v)});
             if (p.perturb) {
                 if (linear_impact) v = add(v, perturber_.perturbation(delta_v, perturbation_random_));
@@ -622,7 +644,12 @@ private:
     std::vector<int32_t> impact_partner_;
     std::vector<double> linear_damping_factor_, angular_damping_factor_;
     std::vector<Vec3> previous_linear_, previous_angular_;
-    std::vector<std::pair<int32_t, double>> deepest_partner_;
+    struct DeepestContact {
+        int32_t other = -1;
+        double depth = -1;
+        Vec3 point{0, 0, 0}, normal{0, 0, 1};
+    };
+    std::vector<DeepestContact> deepest_contact_;
     std::vector<Transform> frames_;
     CandidatePairs candidates_;
 };

@@ -1,0 +1,148 @@
+"""Builds the Blender 4.2+ extension zip of the add-on for linux-x64.
+
+    python3 tests/blender4/build_extension.py [--addon addon/many_worlds] [--out build/extension]
+
+Blender's extension docs prescribe Python wheels for compiled Python modules: Blender installs the
+wheels that match its own Python and platform into its extensions' site-packages when the
+extension is enabled. So each built `_native.cpython-3XY-x86_64-linux-gnu.so` (3.11 for the
+official 4.2-4.5 builds, 3.13 for Debian's 4.3) goes into its own wheel of a package
+`many_worlds_native`, and the zip gets a two-line `_native.py` in place of the .so files that
+hands `from . import _native` the wheel's module. The engine executable (bin/mwb-engine) is not a
+Python module and stays where the add-on looks for it.
+
+Writes OUT/many_worlds-VERSION-linux_x64.zip (Blender's name for a per-platform build) and prints
+its path. Plain Python 3.11+, no Blender needed; `blender -c extension validate` checks the result.
+"""
+import argparse
+import base64
+import hashlib
+import io
+import os
+import re
+import sys
+import tomllib
+import zipfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+PLATFORM = "linux-x64"
+WHEEL_PACKAGE = "many_worlds_native"
+NATIVE_RE = re.compile(r"^_native\.cpython-(\d)(\d+)-x86_64-linux-gnu\.so$")
+# Fixed timestamps make the zip and wheels depend on their contents only.
+EPOCH = (1980, 1, 1, 0, 0, 0)
+
+SHIM = '''"""The compiled module comes from this extension's wheel (see wheels/), which Blender unpacks
+into its extensions' site-packages when the extension is enabled."""
+import importlib
+import sys
+
+sys.modules[__name__] = importlib.import_module("{package}._native")
+'''
+
+
+def zip_entry(archive, name, data, executable=False):
+    info = zipfile.ZipInfo(name, EPOCH)
+    info.compress_type = zipfile.ZIP_DEFLATED
+    info.external_attr = (0o100755 if executable else 0o100644) << 16
+    archive.writestr(info, data)
+
+
+def record_line(name, data):
+    digest = base64.urlsafe_b64encode(hashlib.sha256(data).digest()).rstrip(b"=").decode()
+    return f"{name},sha256={digest},{len(data)}"
+
+
+def make_wheel(so_path, version, python_tag):
+    """One wheel holding the module at many_worlds_native/_native...so; returns (filename, bytes)."""
+    dist_info = f"{WHEEL_PACKAGE}-{version}.dist-info"
+    with open(so_path, "rb") as f:
+        so_data = f.read()
+    files = [
+        (f"{WHEEL_PACKAGE}/__init__.py", b'"""The native module of the Many-Worlds Browser add-on."""\n'),
+        (f"{WHEEL_PACKAGE}/{os.path.basename(so_path)}", so_data),
+        (f"{dist_info}/METADATA",
+         f"Metadata-Version: 2.1\nName: {WHEEL_PACKAGE}\nVersion: {version}\n"
+         "Summary: Native module of the Many-Worlds Browser Blender extension\n".encode()),
+        (f"{dist_info}/WHEEL",
+         f"Wheel-Version: 1.0\nGenerator: many_worlds build_extension.py\nRoot-Is-Purelib: false\n"
+         f"Tag: {python_tag}-{python_tag}-linux_x86_64\n".encode()),
+    ]
+    record = [record_line(name, data) for name, data in files] + [f"{dist_info}/RECORD,,"]
+    files.append((f"{dist_info}/RECORD", ("\n".join(record) + "\n").encode()))
+    buffer = io.BytesIO()
+    with zipfile.ZipFile(buffer, "w") as wheel:
+        for name, data in files:
+            zip_entry(wheel, name, data)
+    return f"{WHEEL_PACKAGE}-{version}-{python_tag}-{python_tag}-linux_x86_64.whl", buffer.getvalue()
+
+
+def manifest_with_wheels(text, wheel_paths):
+    """The manifest with a `wheels` list; top-level keys must come before the first [table]."""
+    if re.search(r"^wheels\s*=", text, re.M):
+        raise SystemExit("build_extension: the source manifest already lists wheels; this script writes them")
+    lines = text.splitlines(keepends=True)
+    at = next((i for i, line in enumerate(lines) if line.lstrip().startswith("[")), len(lines))
+    entry = "wheels = [\n" + "".join(f'  "./{p}",\n' for p in wheel_paths) + "]\n\n"
+    return "".join(lines[:at] + [entry] + lines[at:])
+
+
+def package_files(addon_dir):
+    """(relative path, absolute path) of everything that ships, except compiled Python modules."""
+    for folder, dirs, files in os.walk(addon_dir):
+        dirs[:] = sorted(d for d in dirs if d != "__pycache__")
+        for name in sorted(files):
+            if name.endswith((".pyc", ".so")):
+                continue
+            path = os.path.join(folder, name)
+            yield os.path.relpath(path, addon_dir).replace(os.sep, "/"), path
+
+
+def build(addon_dir, out_dir):
+    with open(os.path.join(addon_dir, "blender_manifest.toml"), "rb") as f:
+        manifest_text = f.read().decode()
+    manifest = tomllib.loads(manifest_text)
+    if PLATFORM not in manifest.get("platforms", [PLATFORM]):
+        raise SystemExit(f"build_extension: the manifest's platforms do not include {PLATFORM}")
+    modules = sorted(n for n in os.listdir(addon_dir) if NATIVE_RE.match(n))
+    if not modules:
+        raise SystemExit(f"build_extension: no _native.cpython-3XY-x86_64-linux-gnu.so in {addon_dir}: build first")
+    engine = os.path.join(addon_dir, "bin", "mwb-engine")
+    if not os.access(engine, os.X_OK):
+        raise SystemExit(f"build_extension: {engine} is missing: build first")
+
+    wheels = []
+    for name in modules:
+        major, minor = NATIVE_RE.match(name).groups()
+        wheels.append(make_wheel(os.path.join(addon_dir, name), manifest["version"], f"cp{major}{minor}"))
+    wheel_paths = [f"wheels/{filename}" for filename, _ in wheels]
+
+    os.makedirs(out_dir, exist_ok=True)
+    zip_path = os.path.join(out_dir, f"{manifest['id']}-{manifest['version']}-{PLATFORM.replace('-', '_')}.zip")
+    with zipfile.ZipFile(zip_path + ".part", "w") as archive:
+        for rel, path in package_files(addon_dir):
+            if rel == "blender_manifest.toml":
+                data = manifest_with_wheels(manifest_text, wheel_paths).encode()
+            else:
+                with open(path, "rb") as f:
+                    data = f.read()
+            zip_entry(archive, rel, data, executable=os.access(path, os.X_OK) and not rel.endswith(".py"))
+        zip_entry(archive, "_native.py", SHIM.format(package=WHEEL_PACKAGE).encode())
+        for (_, data), rel in zip(wheels, wheel_paths):
+            zip_entry(archive, rel, data)
+    os.replace(zip_path + ".part", zip_path)
+    return zip_path, wheel_paths
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--addon", default=os.path.join(ROOT, "addon", "many_worlds"))
+    parser.add_argument("--out", default=os.path.join(ROOT, "build", "extension"))
+    args = parser.parse_args(argv)
+    zip_path, wheel_paths = build(os.path.abspath(args.addon), os.path.abspath(args.out))
+    for path in wheel_paths:
+        print(f"build_extension: {path}", file=sys.stderr)
+    print(zip_path)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))
