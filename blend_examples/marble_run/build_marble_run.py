@@ -20,6 +20,7 @@ from mathutils import Euler, Matrix, Vector
 FPS = 24
 FRAME_START, FRAME_END = 1, 192         # 8 s: a full chain reaches the basket after about 6.5 s
 SUBSTEPS, SOLVER_ITERATIONS = 10, 20    # small fast marble: 240 Hz, extra iterations for the hinges
+THIN_OBJECT, THIN_MARGIN = 0.1, 0.0005   # metres; see rigid_body()
 WORLD_COUNT, SEED = 500, 1
 
 # The toy is flat, as on a fridge door: everything moves in the XZ plane between a back board and a
@@ -32,7 +33,6 @@ DROP_GAP = 0.09                         # between a chute's end and its stop wal
 # along the chute when it lands, and this offset makes each cup tip either way about equally often.
 LANDING_SHIFT = 0.01
 STOP_WALL_HEIGHT = 0.2
-COLLISION_MARGIN = 0.001
 BOARD_WIDTH, BOARD_HEIGHT = 1.4, 2.6
 
 # Cups: a flat-bottomed U with a keel under it. The hinge sits a little above the cup's own centre of
@@ -88,11 +88,18 @@ def box(name, size, **kw):
 
 
 def sphere(name, radius, **kw):
-    return mesh_object(name, lambda bm: bmesh.ops.create_uvsphere(bm, u_segments=32, v_segments=16, radius=radius), **kw)
+    return mesh_object(name, lambda bm: bmesh.ops.create_uvsphere(bm, u_segments=32, v_segments=16, radius=radius),
+                       **kw)
 
 
 
 
+
+
+def smallest_extent(obj):
+    """The object's thinnest bounding-box side, from its mesh (objects here have unit scale)."""
+    coords = [v.co for v in obj.data.vertices]
+    return min(max(c[i] for c in coords) - min(c[i] for c in coords) for i in range(3))
 
 
 def rigid_body(obj, body_type, shape, mass=1.0, friction=0.5, restitution=0.0, damping=(0.04, 0.1)):
@@ -101,9 +108,12 @@ def rigid_body(obj, body_type, shape, mass=1.0, friction=0.5, restitution=0.0, d
     rb = obj.rigid_body
     rb.collision_shape, rb.mass, rb.friction, rb.restitution = shape, mass, friction, restitution
     rb.linear_damping, rb.angular_damping = damping
-    # Blender's default margin (4 cm, used when this is off) is larger than our thin boards and the
-    # marble and makes Bullet collide them at the wrong distances
-    rb.use_margin, rb.collision_margin = True, COLLISION_MARGIN
+    # While use_margin is off Blender uses a hidden 4 cm margin: inside BOX and CYLINDER shapes, which
+    # breaks those thinner than 8 cm, and outside CONE and hull shapes. Such objects get a tiny
+    # explicit margin instead (the engine adds an explicit margin outside every shape; 0.5 mm is
+    # harmless there). Everything else keeps the default, which the engine ignores.
+    if shape in ("CONE", "CONVEX_HULL") or smallest_extent(obj) < THIN_OBJECT:
+        rb.use_margin, rb.collision_margin = True, THIN_MARGIN
     return rb
 
 
@@ -150,10 +160,13 @@ def constraint(name, kind, obj1, obj2, location, rotation=(0, 0, 0), **settings)
 
 def variation(obj, location=(0, 0, 0), rotation=(0, 0, 0), linear_velocity=(0, 0, 0), angular_velocity=(0, 0, 0)):
     """Symmetric ranges [-r, +r] per axis, world frame, added to the object's initial state."""
+    ranges = {}
     for key, r in (("location", location), ("rotation", rotation),
                    ("linear_velocity", linear_velocity), ("angular_velocity", angular_velocity)):
-        obj[f"mwb_{key}_min"] = [-v for v in r]
-        obj[f"mwb_{key}_max"] = list(r)
+        ranges[f"{key}_min"], ranges[f"{key}_max"] = [-v for v in r], list(r)
+    # Stored where the add-on's Object.mwb_variation property group keeps them: Blender maps this
+    # ID group onto the registered group, so the script needs no add-on to run.
+    obj["mwb_variation"] = ranges
 
 
 def look_at(obj, target):
@@ -187,7 +200,8 @@ def scene_settings(duration_s):
     rbw = scene.rigidbody_world
     rbw.substeps_per_frame, rbw.solver_iterations = SUBSTEPS, SOLVER_ITERATIONS
     rbw.point_cache.frame_start, rbw.point_cache.frame_end = FRAME_START, FRAME_END
-    scene["mwb_world_count"], scene["mwb_seed"], scene["mwb_duration_s"] = WORLD_COUNT, SEED, duration_s
+    # The add-on's Scene.mwb settings, set the same way.
+    scene["mwb"] = {"world_count": WORLD_COUNT, "seed": SEED, "duration_s": duration_s}
 
 
 
@@ -263,7 +277,8 @@ def build_run(mats):
     basket_x, basket_z = -CUPS[-1][1], CUPS[-1][2] - LEVEL_DROP
     for part, size, offset in (("Bottom", (0.24, 0.1, 0.02), (0, 0, 0)), ("WallL", (0.02, 0.1, 0.1), (-0.11, 0, 0.05)),
                                ("WallR", (0.02, 0.1, 0.1), (0.11, 0, 0.05))):
-        piece = box(f"GoalBasket{part}", size, location=(basket_x + offset[0], 0, basket_z + offset[2]), mat=mats["goal"])
+        piece = box(f"GoalBasket{part}", size, location=(basket_x + offset[0], 0, basket_z + offset[2]),
+                    mat=mats["goal"])
         rigid_body(piece, "PASSIVE", "BOX", friction=0.6)
 
 
@@ -287,6 +302,7 @@ def main():
     build_run(mats)
     build_marble(mats)
     camera_and_lights(location=(0.6, -5.4, 1.5), target=(0, 0, 1.3), lens=35)
+    bpy.context.preferences.filepaths.save_version = 0     # no .blend1 backup beside the committed file
     bpy.ops.wm.save_as_mainfile(filepath=path, compress=True)
 
 

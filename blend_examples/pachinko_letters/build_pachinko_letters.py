@@ -19,8 +19,9 @@ import bpy
 from mathutils import Euler, Matrix, Vector
 
 FPS = 24
-FRAME_START, FRAME_END = 1, 120         # 5 s: the letters are at rest in the slots after about 4 s
+FRAME_START, FRAME_END = 1, 144         # 6 s: the letters are at rest in the slots after 4-5 s
 SUBSTEPS, SOLVER_ITERATIONS = 10, 10
+THIN_OBJECT, THIN_MARGIN = 0.1, 0.0005   # metres; see rigid_body()
 WORLD_COUNT, SEED = 1000, 1
 
 WORD = "WORLDS"
@@ -34,7 +35,6 @@ BOARD_WIDTH, BOARD_HEIGHT = SLOT_WIDTH * len(WORD) + 0.1, 5.2
 PEG_RADIUS, PEG_ROWS, PEG_ROW_SPACING, PEG_COLUMN_SPACING = 0.05, 5, 0.6, 0.8
 PEG_BOTTOM_ROW_Z = 1.2
 LETTER_START_Z = (4.3, 4.9)             # alternate letters start at two heights so they do not collide at once
-COLLISION_MARGIN = 0.001                # Blender's default 4 cm margin is larger than the thin panes
 
 
 # --- generic helpers ---------------------------------------------------------------------------
@@ -81,15 +81,24 @@ def cylinder(name, radius, depth, **kw):
         bm, cap_ends=True, segments=32, radius1=radius, radius2=radius, depth=depth), **kw)
 
 
+def smallest_extent(obj):
+    """The object's thinnest bounding-box side, from its mesh (objects here have unit scale)."""
+    coords = [v.co for v in obj.data.vertices]
+    return min(max(c[i] for c in coords) - min(c[i] for c in coords) for i in range(3))
+
+
 def rigid_body(obj, body_type, shape, mass=1.0, friction=0.5, restitution=0.0, damping=(0.04, 0.1)):
     bpy.context.view_layer.objects.active = obj
     bpy.ops.rigidbody.object_add(type=body_type)
     rb = obj.rigid_body
     rb.collision_shape, rb.mass, rb.friction, rb.restitution = shape, mass, friction, restitution
     rb.linear_damping, rb.angular_damping = damping
-    # Blender's default margin (4 cm, used when this is off) is larger than our thin boards and the
-    # marble and makes Bullet collide them at the wrong distances
-    rb.use_margin, rb.collision_margin = True, COLLISION_MARGIN
+    # While use_margin is off Blender uses a hidden 4 cm margin: inside BOX and CYLINDER shapes, which
+    # breaks those thinner than 8 cm, and outside CONE and hull shapes. Such objects get a tiny
+    # explicit margin instead (the engine adds an explicit margin outside every shape; 0.5 mm is
+    # harmless there). Everything else keeps the default, which the engine ignores.
+    if shape in ("CONE", "CONVEX_HULL") or smallest_extent(obj) < THIN_OBJECT:
+        rb.use_margin, rb.collision_margin = True, THIN_MARGIN
     return rb
 
 
@@ -121,10 +130,13 @@ def compound(name, parts, location, rotation=(0, 0, 0), mat=None, mass=1.0, **ri
 
 def variation(obj, location=(0, 0, 0), rotation=(0, 0, 0), linear_velocity=(0, 0, 0), angular_velocity=(0, 0, 0)):
     """Symmetric ranges [-r, +r] per axis, world frame, added to the object's initial state."""
+    ranges = {}
     for key, r in (("location", location), ("rotation", rotation),
                    ("linear_velocity", linear_velocity), ("angular_velocity", angular_velocity)):
-        obj[f"mwb_{key}_min"] = [-v for v in r]
-        obj[f"mwb_{key}_max"] = list(r)
+        ranges[f"{key}_min"], ranges[f"{key}_max"] = [-v for v in r], list(r)
+    # Stored where the add-on's Object.mwb_variation property group keeps them: Blender maps this
+    # ID group onto the registered group, so the script needs no add-on to run.
+    obj["mwb_variation"] = ranges
 
 
 def look_at(obj, target):
@@ -158,7 +170,8 @@ def scene_settings(duration_s):
     rbw = scene.rigidbody_world
     rbw.substeps_per_frame, rbw.solver_iterations = SUBSTEPS, SOLVER_ITERATIONS
     rbw.point_cache.frame_start, rbw.point_cache.frame_end = FRAME_START, FRAME_END
-    scene["mwb_world_count"], scene["mwb_seed"], scene["mwb_duration_s"] = WORLD_COUNT, SEED, duration_s
+    # The add-on's Scene.mwb settings, set the same way.
+    scene["mwb"] = {"world_count": WORLD_COUNT, "seed": SEED, "duration_s": duration_s}
 
 
 
@@ -177,21 +190,19 @@ def letter_parts(char):
         angle = -math.atan2(z1 - z0, x1 - x0)   # about +Y, which turns +X towards -Z
         return (length, d, s), ((x0 + x1) / 2, 0, (z0 + z1) / 2), (0, angle, 0)
 
-    inner = (h - 2 * s) / 2                      # half the height between top and bottom strokes
     glyphs = {
         "W": [bar(left, top, left, bottom), bar(right, top, right, bottom), bar(0, 0, 0, bottom + s),
               bar(left + s, bottom, right - s, bottom)],
         "O": [bar(left, top - s, left, bottom + s), bar(right, top - s, right, bottom + s),
               bar(left, top, right, top), bar(left, bottom, right, bottom)],
-        "R": [bar(left, top, left, bottom), bar(left + s, top, right - s, top), bar(right, top - s, right, 0 + s),
+        "R": [bar(left, top, left, bottom), bar(left + s, top, right - s, top), bar(right, top - s, right, s),
               bar(left + s, 0, right - s, 0), bar(0.0, -s, right, bottom)],
         "L": [bar(left, top, left, bottom + s), bar(left, bottom, right, bottom)],
-        "D": [bar(left, top, left, bottom), bar(left + s, top, right - s, top), bar(left + s, bottom, right - s, bottom),
-              bar(right, top - s, right, bottom + s)],
+        "D": [bar(left, top, left, bottom), bar(left + s, top, right - s, top),
+              bar(left + s, bottom, right - s, bottom), bar(right, top - s, right, bottom + s)],
         "S": [bar(left, top, right, top), bar(left, top - s, left, s / 2), bar(left + s, 0, right - s, 0),
               bar(right, -s / 2, right, bottom + s), bar(left, bottom, right, bottom)],
     }
-    assert inner > 0
     return glyphs[char]
 
 
@@ -272,6 +283,7 @@ def main():
     build_slots(mats)
     build_letters(mats)
     camera_and_lights(location=(0.0, -9.5, 2.6), target=(0, 0, 2.5), lens=35)
+    bpy.context.preferences.filepaths.save_version = 0     # no .blend1 backup beside the committed file
     bpy.ops.wm.save_as_mainfile(filepath=path, compress=True)
 
 

@@ -1,4 +1,5 @@
-"""Builds the quick-start example: five toys tumble down a chute past a splitter peg into three bins.
+"""Builds the quick-start example: five toys wait behind an animated gate, then tumble down a chute
+past a splitter peg into three bins.
 
 Goal: "the marble lands in the left bin". Small on purpose, so it samples in seconds.
 
@@ -17,10 +18,13 @@ from mathutils import Euler, Matrix, Vector
 FPS = 24
 FRAME_START, FRAME_END = 1, 96          # 4 s: everything has settled in the bins by then
 SUBSTEPS, SOLVER_ITERATIONS = 10, 10    # 240 Hz, what the engine steps at too
+THIN_OBJECT, THIN_MARGIN = 0.1, 0.0005   # metres; see rigid_body()
 WORLD_COUNT, SEED = 200, 1
 
 CHUTE_LENGTH, CHUTE_WIDTH, CHUTE_TILT = 3.0, 1.2, math.radians(25)
 CHUTE_LOW_END = Vector((0.0, -1.1, 0.55))   # lower edge centre of the chute floor, just behind the bins
+GATE_FROM_TOP, GATE_LIFT = 0.9, 0.5
+GATE_OPEN_FRAMES = (10, 18)                 # the gate rises between these frames
 BIN_WIDTH, BIN_DEPTH, BIN_WALL_HEIGHT = 0.6, 1.0, 0.3
 BIN_NAMES = ("Left", "Middle", "Right")     # as seen from the camera (-X is left)
 WALL_THICKNESS = 0.05
@@ -31,7 +35,7 @@ WALL_THICKNESS = 0.05
 def output_path():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     if len(argv) != 1:
-        sys.exit("usage: blender -b --factory-startup --python build_quickstart.py -- OUTPUT.blend")
+        sys.exit(f"usage: blender -b --factory-startup --python {os.path.basename(__file__)} -- OUTPUT.blend")
     return os.path.abspath(argv[0])
 
 
@@ -74,7 +78,8 @@ def cone(name, radius, depth, **kw):
 
 
 def sphere(name, radius, **kw):
-    return mesh_object(name, lambda bm: bmesh.ops.create_uvsphere(bm, u_segments=32, v_segments=16, radius=radius), **kw)
+    return mesh_object(name, lambda bm: bmesh.ops.create_uvsphere(bm, u_segments=32, v_segments=16, radius=radius),
+                       **kw)
 
 
 def capsule_geometry(bm, radius, length, rings=8, segments=24):
@@ -98,21 +103,36 @@ def capsule(name, radius, length, **kw):
     return mesh_object(name, lambda bm: capsule_geometry(bm, radius, length), **kw)
 
 
+def smallest_extent(obj):
+    """The object's thinnest bounding-box side, from its mesh (objects here have unit scale)."""
+    coords = [v.co for v in obj.data.vertices]
+    return min(max(c[i] for c in coords) - min(c[i] for c in coords) for i in range(3))
+
+
 def rigid_body(obj, body_type, shape, mass=1.0, friction=0.5, restitution=0.0, damping=(0.04, 0.1)):
     bpy.context.view_layer.objects.active = obj
     bpy.ops.rigidbody.object_add(type=body_type)
     rb = obj.rigid_body
     rb.collision_shape, rb.mass, rb.friction, rb.restitution = shape, mass, friction, restitution
     rb.linear_damping, rb.angular_damping = damping
+    # While use_margin is off Blender uses a hidden 4 cm margin: inside BOX and CYLINDER shapes, which
+    # breaks those thinner than 8 cm, and outside CONE and hull shapes. Such objects get a tiny
+    # explicit margin instead (the engine adds an explicit margin outside every shape; 0.5 mm is
+    # harmless there). Everything else keeps the default, which the engine ignores.
+    if shape in ("CONE", "CONVEX_HULL") or smallest_extent(obj) < THIN_OBJECT:
+        rb.use_margin, rb.collision_margin = True, THIN_MARGIN
     return rb
 
 
 def variation(obj, location=(0, 0, 0), rotation=(0, 0, 0), linear_velocity=(0, 0, 0), angular_velocity=(0, 0, 0)):
     """Symmetric ranges [-r, +r] per axis, world frame, added to the object's initial state."""
+    ranges = {}
     for key, r in (("location", location), ("rotation", rotation),
                    ("linear_velocity", linear_velocity), ("angular_velocity", angular_velocity)):
-        obj[f"mwb_{key}_min"] = [-v for v in r]
-        obj[f"mwb_{key}_max"] = list(r)
+        ranges[f"{key}_min"], ranges[f"{key}_max"] = [-v for v in r], list(r)
+    # Stored where the add-on's Object.mwb_variation property group keeps them: Blender maps this
+    # ID group onto the registered group, so the script needs no add-on to run.
+    obj["mwb_variation"] = ranges
 
 
 def look_at(obj, target):
@@ -146,7 +166,8 @@ def scene_settings(duration_s):
     rbw = scene.rigidbody_world
     rbw.substeps_per_frame, rbw.solver_iterations = SUBSTEPS, SOLVER_ITERATIONS
     rbw.point_cache.frame_start, rbw.point_cache.frame_end = FRAME_START, FRAME_END
-    scene["mwb_world_count"], scene["mwb_seed"], scene["mwb_duration_s"] = WORLD_COUNT, SEED, duration_s
+    # The add-on's Scene.mwb settings, set the same way.
+    scene["mwb"] = {"world_count": WORLD_COUNT, "seed": SEED, "duration_s": duration_s}
 
 
 # --- the scene ---------------------------------------------------------------------------------
@@ -173,6 +194,26 @@ def build_chute(mats):
     peg_centre = CHUTE_LOW_END - down * 0.45 + normal * 0.15
     peg = cylinder("SplitterPeg", 0.07, 0.5, location=peg_centre, rotation=tilt, mat=mats["peg"])
     rigid_body(peg, "PASSIVE", "CYLINDER", restitution=0.3)
+
+
+def build_gate(mats):
+    """An animated passive gate across the chute: it holds the toys while they settle against it,
+    then lifts (keyframed, Blender's "Animated" rigid body), so every world starts from a jumble."""
+    along = Vector((0, -math.cos(CHUTE_TILT), -math.sin(CHUTE_TILT)))
+    normal = Vector((0, -math.sin(CHUTE_TILT), math.cos(CHUTE_TILT)))
+    top_edge = CHUTE_LOW_END - along * CHUTE_LENGTH
+    closed = top_edge + along * GATE_FROM_TOP + normal * 0.16
+    gate = box("Gate", (CHUTE_WIDTH, WALL_THICKNESS, 0.3), location=closed, rotation=(CHUTE_TILT, 0, 0),
+               mat=mats["peg"])
+    rigid_body(gate, "PASSIVE", "BOX", friction=0.3)
+    gate.rigid_body.kinematic = True
+    for frame, lift in ((FRAME_START, 0.0), (GATE_OPEN_FRAMES[0], 0.0), (GATE_OPEN_FRAMES[1], GATE_LIFT)):
+        gate.location = closed + Vector((0, 0, lift))
+        gate.keyframe_insert("location", frame=frame)
+    for fcurve in gate.animation_data.action.fcurves:
+        for key in fcurve.keyframe_points:
+            key.interpolation = "LINEAR"
+    gate.location = closed
 
 
 def build_bins(mats):
@@ -202,7 +243,8 @@ def build_toys(mats):
     one the goal is about; the others get in its way."""
     up_chute = Vector((0, math.cos(CHUTE_TILT), math.sin(CHUTE_TILT)))
     top = CHUTE_LOW_END + up_chute * (CHUTE_LENGTH - 0.35) + Vector((0, 0, 0.2))
-    marble = sphere("Marble", 0.1, location=top + Vector((0.0, 0.0, 0.0)), mat=mats["marble"])
+    # a centimetre off the chute's centre line: dead centre, it can balance on the splitter peg
+    marble = sphere("Marble", 0.1, location=top + Vector((0.01, 0.0, 0.0)), mat=mats["marble"])
     rigid_body(marble, "ACTIVE", "SPHERE", mass=0.3, friction=0.3, restitution=0.5)
     variation(marble, location=(0.15, 0.03, 0.02), linear_velocity=(0.3, 0.1, 0.0))
 
@@ -237,9 +279,11 @@ def main():
         "pill": (0.6, 0.2, 0.7)}.items()}
     build_ground(mats)
     build_chute(mats)
+    build_gate(mats)
     build_bins(mats)
     build_toys(mats)
     camera_and_lights(location=(2.6, -6.6, 4.4), target=(0, -0.3, 0.6), lens=30)
+    bpy.context.preferences.filepaths.save_version = 0     # no .blend1 backup beside the committed file
     bpy.ops.wm.save_as_mainfile(filepath=path, compress=True)
 
 

@@ -25,8 +25,8 @@ from mathutils import Euler, Matrix, Vector
 FPS = 24
 FRAME_START, FRAME_END = 1, 240         # 10 s: long enough to tumble down all three turns
 SUBSTEPS, SOLVER_ITERATIONS = 10, 20    # more iterations keep the joint chain stiff
+THIN_OBJECT, THIN_MARGIN = 0.1, 0.0005   # metres; see rigid_body()
 WORLD_COUNT, SEED = 1000, 1
-COLLISION_MARGIN = 0.005
 ALL_COLLECTIONS = range(20)
 
 # staircase
@@ -88,7 +88,8 @@ def cylinder(name, radius, depth, **kw):
 
 
 def sphere(name, radius, **kw):
-    return mesh_object(name, lambda bm: bmesh.ops.create_uvsphere(bm, u_segments=32, v_segments=16, radius=radius), **kw)
+    return mesh_object(name, lambda bm: bmesh.ops.create_uvsphere(bm, u_segments=32, v_segments=16, radius=radius),
+                       **kw)
 
 
 def capsule_geometry(bm, radius, length, rings=8, segments=24):
@@ -112,6 +113,12 @@ def capsule(name, radius, length, **kw):
     return mesh_object(name, lambda bm: capsule_geometry(bm, radius, length), **kw)
 
 
+def smallest_extent(obj):
+    """The object's thinnest bounding-box side, from its mesh (objects here have unit scale)."""
+    coords = [v.co for v in obj.data.vertices]
+    return min(max(c[i] for c in coords) - min(c[i] for c in coords) for i in range(3))
+
+
 def rigid_body(obj, body_type, shape, mass=1.0, friction=0.5, restitution=0.0, damping=(0.04, 0.1),
                collections=ALL_COLLECTIONS):
     bpy.context.view_layer.objects.active = obj
@@ -119,8 +126,12 @@ def rigid_body(obj, body_type, shape, mass=1.0, friction=0.5, restitution=0.0, d
     rb = obj.rigid_body
     rb.collision_shape, rb.mass, rb.friction, rb.restitution = shape, mass, friction, restitution
     rb.linear_damping, rb.angular_damping = damping
-    # Blender's default margin (4 cm, used when this is off) is as large as the thinner limbs
-    rb.use_margin, rb.collision_margin = True, COLLISION_MARGIN
+    # While use_margin is off Blender uses a hidden 4 cm margin: inside BOX and CYLINDER shapes, which
+    # breaks those thinner than 8 cm, and outside CONE and hull shapes. Such objects get a tiny
+    # explicit margin instead (the engine adds an explicit margin outside every shape; 0.5 mm is
+    # harmless there). Everything else keeps the default, which the engine ignores.
+    if shape in ("CONE", "CONVEX_HULL") or smallest_extent(obj) < THIN_OBJECT:
+        rb.use_margin, rb.collision_margin = True, THIN_MARGIN
     rb.collision_collections = [i in collections for i in range(20)]
     return rb
 
@@ -142,10 +153,13 @@ def constraint(name, kind, obj1, obj2, location, rotation=(0, 0, 0), **settings)
 
 def variation(obj, location=(0, 0, 0), rotation=(0, 0, 0), linear_velocity=(0, 0, 0), angular_velocity=(0, 0, 0)):
     """Symmetric ranges [-r, +r] per axis, world frame, added to the object's initial state."""
+    ranges = {}
     for key, r in (("location", location), ("rotation", rotation),
                    ("linear_velocity", linear_velocity), ("angular_velocity", angular_velocity)):
-        obj[f"mwb_{key}_min"] = [-v for v in r]
-        obj[f"mwb_{key}_max"] = list(r)
+        ranges[f"{key}_min"], ranges[f"{key}_max"] = [-v for v in r], list(r)
+    # Stored where the add-on's Object.mwb_variation property group keeps them: Blender maps this
+    # ID group onto the registered group, so the script needs no add-on to run.
+    obj["mwb_variation"] = ranges
 
 
 def look_at(obj, target):
@@ -179,7 +193,8 @@ def scene_settings(duration_s):
     rbw = scene.rigidbody_world
     rbw.substeps_per_frame, rbw.solver_iterations = SUBSTEPS, SOLVER_ITERATIONS
     rbw.point_cache.frame_start, rbw.point_cache.frame_end = FRAME_START, FRAME_END
-    scene["mwb_world_count"], scene["mwb_seed"], scene["mwb_duration_s"] = WORLD_COUNT, SEED, duration_s
+    # The add-on's Scene.mwb settings, set the same way.
+    scene["mwb"] = {"world_count": WORLD_COUNT, "seed": SEED, "duration_s": duration_s}
 
 
 
@@ -315,7 +330,8 @@ def main():
         "body": (0.2, 0.45, 0.8), "head": (0.95, 0.75, 0.6)}.items()}
     build_staircase(mats)
     build_character(mats)
-    camera_and_lights(location=(13.0, -13.0, 10.0), target=(0, 0, 4.6), lens=30)
+    camera_and_lights(location=(13.0, -13.0, 10.0), target=(0, 0, 4.6), lens=38)
+    bpy.context.preferences.filepaths.save_version = 0     # no .blend1 backup beside the committed file
     bpy.ops.wm.save_as_mainfile(filepath=path, compress=True)
 
 

@@ -4,8 +4,8 @@
 Goals (queries in the paper): "the rock hits the tower" and "... the falling blocks miss the
 bystanders".
 
-Mechanism, the simplest that works: the arm (beam, counterweight and lip joined by FIXED
-constraints) turns on a HINGE; the rock rests on the arm's leading face against the lip at its tip. When the falling
+Mechanism, the simplest that works: the arm (beam, counterweight and a cup joined by FIXED
+constraints) turns on a HINGE; the rock rests in the cup on the arm's leading face, at its tip. When the falling
 counterweight has swung the arm up, the hinge's upper limit stops it dead and the rock flies on.
 
 Run:  blender -b --factory-startup --python blend_examples/trebuchet_tower/build_trebuchet_tower.py -- OUT.blend
@@ -23,14 +23,15 @@ from mathutils import Euler, Matrix, Vector
 FPS = 24
 FRAME_START, FRAME_END = 1, 168         # 7 s: swing, flight, and the tower has finished falling
 SUBSTEPS, SOLVER_ITERATIONS = 10, 10
+THIN_OBJECT, THIN_MARGIN = 0.1, 0.0005   # metres; see rigid_body()
 WORLD_COUNT, SEED = 300, 1
-COLLISION_MARGIN = 0.005
 
 # trebuchet, throwing along +X; the arm swings in the XZ plane about the Y axis
 PIVOT = Vector((0.0, 0.0, 3.2))
 LONG_ARM, SHORT_ARM, BEAM_SECTION = 4.0, 1.2, 0.15
 COUNTERWEIGHT_SIZE, COUNTERWEIGHT_MASS = 0.9, 300.0
-BEAM_MASS, LIP_MASS = 50.0, 2.0
+BEAM_MASS = 50.0
+CUP_LENGTH, CUP_WIDTH, PLATE, CUP_MASS = 0.5, 0.5, 0.04, 5.0
 COCKED_ANGLE = math.radians(225)        # long arm direction at the start, from +X towards +Z
 RELEASE_ANGLE = math.radians(120)       # the hinge limit stops the arm here: a throw 30 degrees up
 ROCK_RADIUS, ROCK_MASS = 0.18, 20.0
@@ -40,7 +41,8 @@ FRAME_HALF_GAP = 0.55                   # uprights either side of the arm, clear
 TOWER_CENTRE = Vector((11.0, 0.0, 0.0))        # the rock, thrown as built, meets the tower at about 2.7 m
 LAYERS, BLOCKS_PER_SIDE = 12, 4
 BLOCK_LENGTH, BLOCK_DEPTH, BLOCK_HEIGHT, BLOCK_MASS = 0.5, 0.25, 0.25, 5.0
-BYSTANDERS = ((TOWER_CENTRE.x + 2.6, 0.9), (TOWER_CENTRE.x + 0.8, -2.3), (TOWER_CENTRE.x - 0.6, 2.4))   # within reach of falling blocks
+# (x, y) of the passive figures, within reach of blocks knocked off the tower
+BYSTANDERS = ((TOWER_CENTRE.x + 2.6, 0.9), (TOWER_CENTRE.x + 0.8, -2.3), (TOWER_CENTRE.x - 0.6, 2.4))
 
 
 # --- generic helpers ---------------------------------------------------------------------------
@@ -82,13 +84,9 @@ def box(name, size, **kw):
 
 
 
-def cylinder(name, radius, depth, **kw):
-    return mesh_object(name, lambda bm: bmesh.ops.create_cone(
-        bm, cap_ends=True, segments=32, radius1=radius, radius2=radius, depth=depth), **kw)
-
-
 def sphere(name, radius, **kw):
-    return mesh_object(name, lambda bm: bmesh.ops.create_uvsphere(bm, u_segments=32, v_segments=16, radius=radius), **kw)
+    return mesh_object(name, lambda bm: bmesh.ops.create_uvsphere(bm, u_segments=32, v_segments=16, radius=radius),
+                       **kw)
 
 
 def capsule_geometry(bm, radius, length, rings=8, segments=24):
@@ -112,15 +110,51 @@ def capsule(name, radius, length, **kw):
     return mesh_object(name, lambda bm: capsule_geometry(bm, radius, length), **kw)
 
 
+def smallest_extent(obj):
+    """The object's thinnest bounding-box side, from its mesh (objects here have unit scale)."""
+    coords = [v.co for v in obj.data.vertices]
+    return min(max(c[i] for c in coords) - min(c[i] for c in coords) for i in range(3))
+
+
 def rigid_body(obj, body_type, shape, mass=1.0, friction=0.5, restitution=0.0, damping=(0.04, 0.1)):
     bpy.context.view_layer.objects.active = obj
     bpy.ops.rigidbody.object_add(type=body_type)
     rb = obj.rigid_body
     rb.collision_shape, rb.mass, rb.friction, rb.restitution = shape, mass, friction, restitution
     rb.linear_damping, rb.angular_damping = damping
-    # explicit, so Blender and the engine read the same margin (Blender's hidden default is 4 cm)
-    rb.use_margin, rb.collision_margin = True, COLLISION_MARGIN
+    # While use_margin is off Blender uses a hidden 4 cm margin: inside BOX and CYLINDER shapes, which
+    # breaks those thinner than 8 cm, and outside CONE and hull shapes. Such objects get a tiny
+    # explicit margin instead (the engine adds an explicit margin outside every shape; 0.5 mm is
+    # harmless there). Everything else keeps the default, which the engine ignores.
+    if shape in ("CONE", "CONVEX_HULL") or smallest_extent(obj) < THIN_OBJECT:
+        rb.use_margin, rb.collision_margin = True, THIN_MARGIN
     return rb
+
+
+def compound(name, parts, location, rotation=(0, 0, 0), mat=None, mass=1.0, **rigid):
+    """An ACTIVE COMPOUND body made of boxes. `parts` are (size, offset, euler) in the body's frame
+    with `location` as reference point. The parent carries the visible mesh; each part is a child
+    with its own BOX rigid body (how Blender builds compounds), drawn as wire and not rendered.
+    The origin goes to the volume centroid of the parts: Blender puts the centre of mass at the
+    origin, the engine computes it from the shapes, and this way both agree."""
+    volumes = [s[0] * s[1] * s[2] for s, _, _ in parts]
+    centroid = sum((Vector(o) * v for (_, o, _), v in zip(parts, volumes)), Vector()) / sum(volumes)
+    boxes = [(s, Vector(o) - centroid, Euler(e)) for s, o, e in parts]
+
+    def all_boxes(bm):
+        for size, offset, euler in boxes:
+            placement = Matrix.Translation(offset) @ euler.to_matrix().to_4x4() @ Matrix.Diagonal((*size, 1.0))
+            bmesh.ops.create_cube(bm, size=1.0, matrix=placement)
+
+    parent = mesh_object(name, all_boxes, location=Vector(location) + Euler(rotation).to_matrix() @ centroid,
+                         rotation=rotation, mat=mat)
+    rigid_body(parent, "ACTIVE", "COMPOUND", mass=mass, **rigid)
+    for i, (size, offset, euler) in enumerate(boxes):
+        part = box(f"{name}.part{i}", size, location=offset, rotation=euler)
+        part.parent = parent
+        part.display_type, part.hide_render, part.hide_select = "WIRE", True, True
+        rigid_body(part, "ACTIVE", "BOX", mass=mass / len(boxes), **rigid)
+    return parent
 
 
 def constraint(name, kind, obj1, obj2, location, rotation=(0, 0, 0), **settings):
@@ -140,10 +174,13 @@ def constraint(name, kind, obj1, obj2, location, rotation=(0, 0, 0), **settings)
 
 def variation(obj, location=(0, 0, 0), rotation=(0, 0, 0), linear_velocity=(0, 0, 0), angular_velocity=(0, 0, 0)):
     """Symmetric ranges [-r, +r] per axis, world frame, added to the object's initial state."""
+    ranges = {}
     for key, r in (("location", location), ("rotation", rotation),
                    ("linear_velocity", linear_velocity), ("angular_velocity", angular_velocity)):
-        obj[f"mwb_{key}_min"] = [-v for v in r]
-        obj[f"mwb_{key}_max"] = list(r)
+        ranges[f"{key}_min"], ranges[f"{key}_max"] = [-v for v in r], list(r)
+    # Stored where the add-on's Object.mwb_variation property group keeps them: Blender maps this
+    # ID group onto the registered group, so the script needs no add-on to run.
+    obj["mwb_variation"] = ranges
 
 
 def look_at(obj, target):
@@ -177,7 +214,8 @@ def scene_settings(duration_s):
     rbw = scene.rigidbody_world
     rbw.substeps_per_frame, rbw.solver_iterations = SUBSTEPS, SOLVER_ITERATIONS
     rbw.point_cache.frame_start, rbw.point_cache.frame_end = FRAME_START, FRAME_END
-    scene["mwb_world_count"], scene["mwb_seed"], scene["mwb_duration_s"] = WORLD_COUNT, SEED, duration_s
+    # The add-on's Scene.mwb settings, set the same way.
+    scene["mwb"] = {"world_count": WORLD_COUNT, "seed": SEED, "duration_s": duration_s}
 
 
 
@@ -202,10 +240,10 @@ def build_frame(mats):
 
 
 def build_arm(mats):
-    """Beam, counterweight and lip as three boxes joined by FIXED constraints (each box's own
-    inertia is then exact in Blender and in the engine; a Blender COMPOUND takes its inertia from
-    the bounding box), hinged to an upright; the hinge stops at RELEASE_ANGLE. The rock rests on the
-    leading face against the lip."""
+    """Beam, counterweight and cup joined by FIXED constraints (the heavy parts are plain boxes, so
+    their inertia is exact in Blender and in the engine; a Blender COMPOUND takes its inertia from
+    the bounding box), hinged to an upright; the hinge stops at RELEASE_ANGLE. The rock rests in
+    the cup on the leading face."""
     half = BEAM_SECTION / 2
     rotation = arm_rotation()
     place = Matrix.Translation(PIVOT) @ Euler(rotation).to_matrix().to_4x4()
@@ -215,24 +253,30 @@ def build_arm(mats):
     weight = box("Counterweight", (COUNTERWEIGHT_SIZE,) * 3, location=place @ Vector((-SHORT_ARM, 0, 0)),
                  rotation=rotation, mat=mats["iron"])
     rigid_body(weight, "ACTIVE", "BOX", mass=COUNTERWEIGHT_MASS, friction=0.6, damping=(0.0, 0.02))
-    lip = box("Lip", (0.08, BEAM_SECTION, 0.35), location=place @ Vector((LONG_ARM + 0.04 - half, 0, -half - 0.175)),
-              rotation=rotation, mat=mats["wood"])
-    rigid_body(lip, "ACTIVE", "BOX", mass=LIP_MASS, friction=0.6)
+    # the cup: a plate on the leading face with cheeks either side and a lip at the end, so the rock
+    # can neither roll off the narrow beam sideways nor slide off its end before the release
+    cup_parts = [((CUP_LENGTH, CUP_WIDTH, PLATE), (LONG_ARM - CUP_LENGTH / 2, 0, -half - PLATE / 2), (0, 0, 0)),
+                 ((0.06, CUP_WIDTH, 0.35), (LONG_ARM + 0.03, 0, -half - 0.175), (0, 0, 0))]
+    for sign in (-1, 1):
+        cup_parts.append(((CUP_LENGTH, PLATE, 0.18), (LONG_ARM - CUP_LENGTH / 2, sign * (CUP_WIDTH - PLATE) / 2,
+                                                       -half - PLATE - 0.09), (0, 0, 0)))
+    cup = compound("Cup", [(size, place @ Vector(offset) - PIVOT, euler) for size, offset, euler in cup_parts],
+                   location=PIVOT, mat=mats["wood"], mass=CUP_MASS, friction=0.6)
     constraint("CounterweightFixed", "FIXED", beam, weight, location=weight.location)
-    constraint("LipFixed", "FIXED", beam, lip, location=lip.location)
-    # The hinge axis is the empty's local Z, here turned onto world -Y. Blender measures the angle of
-    # object1 (upright) relative to object2 (beam), so about -Y that angle grows as the long arm swings
-    # up and over (clockwise seen from the camera), and the upper limit is the release.
+    constraint("CupFixed", "FIXED", beam, cup, location=cup.location)
+    # The hinge axis is the empty's local Z, here world -Y. The limits are symmetric: the arm only
+    # ever swings one way, and the stop then does not depend on which body's angle a simulator
+    # measures (Blender measures object1 relative to object2, the opposite of the usual convention).
+    swing = COCKED_ANGLE - RELEASE_ANGLE
     constraint("ArmHinge", "HINGE", bpy.data.objects["UprightR"], beam, location=PIVOT, rotation=(math.pi / 2, 0, 0),
-               use_limit_ang_z=True, limit_ang_z_lower=math.radians(-5),
-               limit_ang_z_upper=COCKED_ANGLE - RELEASE_ANGLE)
-    rock_at = place @ Vector((LONG_ARM - ROCK_RADIUS - 0.06 - half, 0, -half - ROCK_RADIUS - 0.002))
+               use_limit_ang_z=True, limit_ang_z_lower=-swing, limit_ang_z_upper=swing)
+    rock_at = place @ Vector((LONG_ARM - ROCK_RADIUS - 0.02, 0, -half - PLATE - ROCK_RADIUS - 0.002))
     rock = sphere("Rock", ROCK_RADIUS, location=rock_at, mat=mats["rock"])
     rigid_body(rock, "ACTIVE", "SPHERE", mass=ROCK_MASS, friction=0.6, restitution=0.1)
     # Only the rock varies: a nudge as it sits in the cup changes where it flies, which is what the
     # paper got by varying the release time; the jointed arm gets no variation, since moving one of
     # its boxes alone would only fight the joints.
-    variation(rock, location=(0.02, 0.02, 0.02), linear_velocity=(0.5, 0.4, 0.5), angular_velocity=(1.0, 1.0, 1.0))
+    variation(rock, location=(0.02, 0.02, 0.02), linear_velocity=(0.5, 0.1, 0.5), angular_velocity=(1.0, 1.0, 1.0))
 
 
 # --- tower and bystanders -----------------------------------------------------------------------
@@ -241,7 +285,7 @@ def pinwheel_layer(mirrored):
     """16 blocks (centre x, y, rotated?) around a square ring, each side a run of BLOCKS_PER_SIDE
     blocks that covers one corner; `mirrored` turns the pinwheel the other way."""
     side = BLOCKS_PER_SIDE * BLOCK_LENGTH + BLOCK_DEPTH
-    half, run = side / 2, BLOCKS_PER_SIDE * BLOCK_LENGTH
+    half = side / 2
     blocks = []
     for i in range(BLOCKS_PER_SIDE):
         t = -half + (i + 0.5) * BLOCK_LENGTH        # along a side, starting at its corner
@@ -249,7 +293,6 @@ def pinwheel_layer(mirrored):
                    (half - BLOCK_DEPTH / 2, t, True),                   # east, from the south corner
                    (-t, half - BLOCK_DEPTH / 2, False),                 # north, from the east corner
                    (-half + BLOCK_DEPTH / 2, -t, True)]                 # west, from the north corner
-    assert abs(run + BLOCK_DEPTH - side) < 1e-9
     if mirrored:
         blocks = [(-x, y, rotated) for x, y, rotated in blocks]
     return blocks
@@ -291,6 +334,7 @@ def main():
     build_tower(mats)
     build_bystanders(mats)
     camera_and_lights(location=(6.0, -22.0, 7.5), target=(6.5, 0.0, 2.8), lens=30)
+    bpy.context.preferences.filepaths.save_version = 0     # no .blend1 backup beside the committed file
     bpy.ops.wm.save_as_mainfile(filepath=path, compress=True)
 
 
