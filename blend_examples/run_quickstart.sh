@@ -1,14 +1,38 @@
 #!/bin/sh
-# The main job: set up, sample the quick-start scene with the engine, and summarize the library.
+# The main job on the quick-start example, headless: set up, sample 200 worlds, keep those where
+# the marble ends in the left bin, rank them by how soon the marble settles, bake the best one to
+# a .blend and draw a contact sheet of the top six.
 set -eu
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BUILD=${MWB_BUILD_DIR:-$ROOT/build}
 "$ROOT/tests/setup.sh"
 OUT="$BUILD/quickstart"
+LIB="$OUT/quickstart.mwb"
 mkdir -p "$OUT"
-rm -f "$OUT/quickstart.mwb"
-"$BUILD/native/mwb-engine" sample --scene "$ROOT/tests/scenes/quickstart.json" --out "$OUT/quickstart.mwb" \
-    --seed 1 --worlds 0:200 --threads "$(nproc)"
-"$BUILD/native/mwb-engine" info "$OUT/quickstart.mwb"
-PYTHONPATH="$ROOT/addon" /usr/bin/python3 "$ROOT/blend_examples/summarize_library.py" "$OUT/quickstart.mwb"
-echo "library: $OUT/quickstart.mwb"
+rm -f "$LIB" "$LIB.scene.json"
+cli() {
+    blender -b "$ROOT/blend_examples/quickstart/quickstart.blend" --python-exit-code 1 \
+        --python "$ROOT/addon/many_worlds/cli.py" -- "$@" 2>&1 | grep -v -e '^Blender ' -e '^Read blend' -e '^$'
+}
+# The left (green) bin seen from the scene camera, in view fractions; the marble over the last second.
+LEFT_BIN="--box 0.318,0.217,0.38,0.40 --objects Marble --time 3,4"
+
+echo "== sample"
+cli sample --worlds 0:200 --out "$LIB" | tail -n 1
+echo "== info"
+cli info "$LIB"
+echo "== query: the marble ends in the left bin"
+cli query "$LIB" $LEFT_BIN | head -n 1
+echo "== rank: those worlds by how soon the marble rests"
+cli rank "$LIB" --metric time_to_rest_s --objects Marble $LEFT_BIN --limit 6 | tee "$OUT/ranking.txt"
+BEST=$(head -n 1 "$OUT/ranking.txt" | cut -d ' ' -f 1)
+TOP=$(cut -d ' ' -f 1 "$OUT/ranking.txt" | paste -s -d ,)
+echo "== bake world $BEST"
+cli bake "$LIB" --world "$BEST" --out "$OUT/best_world.blend" | tail -n 1
+echo "== contact sheet"
+cli preview "$LIB" --worlds "$TOP" --out "$OUT/contact_sheet.png" | tail -n 1
+echo
+echo "library:       $LIB"
+echo "ranking:       $OUT/ranking.txt"
+echo "baked world:   $OUT/best_world.blend"
+echo "contact sheet: $OUT/contact_sheet.png"

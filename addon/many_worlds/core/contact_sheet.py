@@ -35,8 +35,11 @@ def draw_line(tile, a, b, colour):
     t = np.linspace(0.0, 1.0, steps)
     xs = np.round(a[0] + (b[0] - a[0]) * t).astype(int)
     ys = np.round(a[1] + (b[1] - a[1]) * t).astype(int)
-    keep = (xs >= 0) & (xs < tile.shape[1]) & (ys >= 0) & (ys < tile.shape[0])
-    tile[ys[keep], xs[keep]] = colour
+    # Two pixels wide, so thin diagonal paths stay visible in small tiles.
+    for dx, dy in ((0, 0), (1, 0), (0, 1)):
+        x, y = xs + dx, ys + dy
+        keep = (x >= 0) & (x < tile.shape[1]) & (y >= 0) & (y < tile.shape[0])
+        tile[y[keep], x[keep]] = colour
 
 
 def draw_label(tile, text, scale=3, margin=6):
