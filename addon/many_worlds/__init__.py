@@ -25,24 +25,31 @@ def _classes():
 
 def register():
     import bpy
-    from . import draw, handlers, props
+    from . import draw, handlers, keymaps, props
     for cls in _classes():
         bpy.utils.register_class(cls)
     props.register_properties()
     handlers.add()
     draw.add_handlers()
+    keymaps.add()
+    from . import compat
+    compat.register_cli_command(__name__)
 
 
 def unregister():
     import bpy
-    from . import draw, handlers, preview, props
+    from . import draw, handlers, keymaps, preview, props, queries
     from .core.session import SESSION
     from .operators import sampling
+    from . import compat
+    compat.unregister_cli_command()
     sampling.stop_for_unregister()
     # Put the user's scene back before the properties that describe it go away.
     preview.end_all_previews()
+    keymaps.remove()
     draw.remove_handlers()
     handlers.remove()
+    queries.RANKING.clear()
     SESSION.close()
     props.unregister_properties()
     for cls in reversed(_classes()):

@@ -21,13 +21,16 @@ import subprocess
 import sys
 
 if __name__ == "__main__":
-    # Run as a script by Blender: make the package importable from this checkout.
+    # Run as a script by Blender: make the package importable from this checkout and resolve the
+    # relative imports below in it (PEP 366). They are relative because the installed extension's
+    # package is `bl_ext.<repository>.many_worlds`, where `import many_worlds` fails.
     sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    __package__ = "many_worlds"
 
 import numpy as np  # noqa: E402
 
-from many_worlds import _native  # noqa: E402
-from many_worlds.core import contact_sheet, engine, paths  # noqa: E402
+from . import _native  # noqa: E402
+from .core import contact_sheet, engine, paths  # noqa: E402
 
 METRICS = ("angular_travel_rad", "time_to_rest_s", "collision_count", "orientation_change_rad", "path_length_m",
            "orientation_to_goal_rad", "constraints_satisfied")
@@ -104,7 +107,7 @@ def body_indices(library, objects_text, default="simulated"):
 
 def command_sample(args):
     import bpy
-    from many_worlds.export import export_and_validate
+    from .export import export_and_validate
     if args.seeds and args.worlds:
         raise CliError("give --worlds or --seeds, not both")
     settings = getattr(bpy.context.scene, "mwb", None)
@@ -280,9 +283,9 @@ def command_rank(args):
 
 def command_bake(args):
     import bpy
-    from many_worlds import bake
-    from many_worlds.core.library_view import LibraryView
-    from many_worlds.core.session import SESSION
+    from . import bake
+    from .core.library_view import LibraryView
+    from .core.session import SESSION
     library = open_library(args.library)
     check_library_matches_scene(library, args.library)
     if args.world not in set(int(w) for w in library.world_indices):
@@ -410,8 +413,7 @@ def ensure_registered():
     """Scene and object settings of the add-on are read through its registered properties."""
     import bpy
     if not hasattr(bpy.types.Scene, "mwb"):
-        import many_worlds
-        many_worlds.register()
+        sys.modules[__package__].register()
 
 
 def main(argv):

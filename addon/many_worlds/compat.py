@@ -1,4 +1,6 @@
 """Every difference between Blender 3.4 and 4.2+ that the add-on meets, in one place."""
+import importlib
+
 import bpy
 import gpu
 
@@ -29,3 +31,26 @@ def new_fcurve(action, data_path, index, group):
 
 def find_fcurve(action, data_path, index):
     return action.fcurves.find(data_path, index=index)
+
+
+# `blender -c many_worlds COMMAND ...` (4.2+). Blender looks commands up before it reads `--addons`,
+# so the command exists when the add-on is enabled in the preferences (as an installed extension).
+CLI_COMMAND = "many_worlds"
+_cli_handles = []
+
+
+def register_cli_command(package):
+    """Forward `blender -c many_worlds ARGS` to `<package>.cli.main(ARGS)`; nothing before 4.2."""
+    if not hasattr(bpy.utils, "register_cli_command"):
+        return
+
+    def execute(argv):
+        # Imported on use: the command line module is not needed to register the add-on.
+        return importlib.import_module(".cli", package).main(list(argv))
+
+    _cli_handles.append(bpy.utils.register_cli_command(CLI_COMMAND, execute))
+
+
+def unregister_cli_command():
+    while _cli_handles:
+        bpy.utils.unregister_cli_command(_cli_handles.pop())

@@ -1,7 +1,8 @@
-"""Application handlers: restoring the browsing state on load, and the preview on frame change."""
+"""Application handlers: restoring the browsing state on load and after undo, and the preview on
+frame change."""
 import bpy
 
-from . import preview
+from . import preview, queries
 from .core.session import SESSION
 from .draw import paths
 from .operators import browsing
@@ -21,8 +22,17 @@ def on_load_post(*_args):
         SESSION.last_error = f"Could not reopen the library: {error}"
 
 
+@bpy.app.handlers.persistent
+def on_undo_redo(*_args):
+    # Undo restores the boxes (scene properties) but not the runtime match flags: recompute.
+    if SESSION.view is not None:
+        queries.refresh(bpy.context.scene)
+
+
 _HANDLERS = ((bpy.app.handlers.load_post, on_load_post),
-             (bpy.app.handlers.frame_change_pre, preview.on_frame_change))
+             (bpy.app.handlers.frame_change_pre, preview.on_frame_change),
+             (bpy.app.handlers.undo_post, on_undo_redo),
+             (bpy.app.handlers.redo_post, on_undo_redo))
 
 
 def add():

@@ -2,7 +2,7 @@
 browsing state. Runtime objects (open library, engine process) live in core.session."""
 import bpy
 from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty, FloatVectorProperty,
-                       IntProperty, PointerProperty, StringProperty)
+                       IntProperty, IntVectorProperty, PointerProperty, StringProperty)
 
 
 def _vector(name, subtype, description, unit="NONE"):
@@ -50,6 +50,55 @@ def _tag_redraw(self, context):
         area.tag_redraw()
 
 
+def _on_box_change(self, context):
+    # Any edit of a box changes which worlds match; the import is late to keep modules free of cycles.
+    from . import queries
+    queries.refresh(context.scene)
+
+
+class MWB_BodyName(bpy.types.PropertyGroup):
+    """A scene body referred to by its object name (`name`), as the library's scene knows it."""
+
+
+class MWB_QueryBox(bpy.types.PropertyGroup):
+    """A box drawn in a 3D viewport: the rectangle plus the view it was drawn through.
+
+    The matrices and the region size at drawing time make the box a fixed frustum in world space,
+    whatever the viewport shows later.
+    """
+    rect: FloatVectorProperty(name="Rectangle", size=4,
+                              description="x0, y0, x1, y1 in region pixels from the bottom-left")
+    view_matrix: FloatVectorProperty(name="View Matrix", size=16, description="World to camera, row-major")
+    projection_matrix: FloatVectorProperty(name="Projection Matrix", size=16,
+                                           description="Camera to clip (OpenGL), row-major")
+    region_size: IntVectorProperty(name="Region Size", size=2, description="Viewport width and height, pixels")
+    enabled: BoolProperty(name="Enabled", default=True, update=_on_box_change,
+                          description="Use this box in the query")
+    negative: BoolProperty(name="Negative", default=False, update=_on_box_change,
+                           description="Keep worlds whose paths stay out of the box (else: enter it)")
+    bodies: CollectionProperty(type=MWB_BodyName, description="Bodies whose paths the box tests")
+    use_time_window: BoolProperty(name="Time Window", default=False, update=_on_box_change,
+                                  description="Test only the part of the paths between two times")
+    time_start_s: FloatProperty(name="From", default=0.0, min=0.0, unit="TIME_ABSOLUTE", update=_on_box_change,
+                                description="Start of the time window, seconds of simulated time")
+    time_end_s: FloatProperty(name="To", default=1.0, min=0.0, unit="TIME_ABSOLUTE", update=_on_box_change,
+                              description="End of the time window, seconds of simulated time")
+    swept: BoolProperty(name="Swept", default=False, update=_on_box_change,
+                        description="Test the bodies' bounding spheres along the path, not only their origins")
+
+
+RANK_METRICS = [
+    ("angular_travel_rad", "Angular Travel", "Integrated angular speed (how much the bodies spin)"),
+    ("time_to_rest_s", "Time to Rest", "When the bodies came to rest"),
+    ("collision_count", "Collisions", "How many collisions the bodies had"),
+    ("orientation_change_rad", "Orientation Change", "Angle between first and last orientation"),
+    ("path_length_m", "Path Length", "How far the bodies' origins travelled"),
+    ("orientation_to_goal_rad", "Upright", "Angle of the final orientation from the object's unrotated pose"),
+    ("constraints_satisfied", "Constraints Satisfied",
+     "How many enabled boxes each world satisfies; lists every world, not only the matching ones"),
+]
+
+
 class MWB_SceneSettings(bpy.types.PropertyGroup):
     # Sampling
     library_path: StringProperty(
@@ -80,13 +129,28 @@ class MWB_SceneSettings(bpy.types.PropertyGroup):
         items=[("ACTIVE", "Simulated Bodies", "Paths of every body the simulation moves"),
                ("SELECTED", "Selected Objects", "Paths of the selected objects only")])
     path_width: FloatProperty(name="Width", default=2.0, min=1.0, max=10.0, update=_tag_redraw)
+    # Queries and ranking
+    boxes: CollectionProperty(type=MWB_QueryBox)
+    box_index: IntProperty(name="Box", default=-1)
+    rank_metric: EnumProperty(name="Rank By", items=RANK_METRICS, default="time_to_rest_s", update=_tag_redraw)
+    rank_combine: EnumProperty(name="Combine", default="SUM", update=_tag_redraw,
+                               items=[("SUM", "Sum", "Add the metric over the bodies"),
+                                      ("MAX", "Max", "The largest value among the bodies")])
+    rank_descending: BoolProperty(name="Descending", default=False, update=_tag_redraw,
+                                  description="Largest values first")
+    rank_bodies: EnumProperty(
+        name="Bodies", default="SELECTED", update=_tag_redraw,
+        items=[("SELECTED", "Selected", "The selected objects, or every simulated body when none is selected"),
+               ("SIMULATED", "Simulated", "Every body the simulation moves"),
+               ("LISTED", "Listed", "The bodies stored with Use Selected")])
+    rank_body_names: CollectionProperty(type=MWB_BodyName)
     # Preview: what to put back when it ends (saved, so a reload mid-preview can still restore).
     previewing: BoolProperty(default=False)
     preview_rigidbody_enabled: BoolProperty(default=True)
     preview_saved: CollectionProperty(type=MWB_SavedTransform)
 
 
-classes = (MWB_ObjectVariation, MWB_WorldItem, MWB_SavedTransform, MWB_SceneSettings)
+classes = (MWB_ObjectVariation, MWB_WorldItem, MWB_SavedTransform, MWB_BodyName, MWB_QueryBox, MWB_SceneSettings)
 
 
 def register_properties():

@@ -42,8 +42,16 @@ def our_handlers():
 
 
 def our_keymap_items():
-    keyconfig = bpy.context.window_manager.keyconfigs.addon
-    return [item for keymap in keyconfig.keymaps for item in keymap.keymap_items if item.idname.startswith("mwb.")]
+    """The add-on's two keymap items and its toolbar tool's two (in a keymap of the default keyconfig)."""
+    keyconfigs = bpy.context.window_manager.keyconfigs
+    return [item for keyconfig in (keyconfigs.addon, keyconfigs.default) for keymap in keyconfig.keymaps
+            for item in keymap.keymap_items if item.idname.startswith("mwb.")]
+
+
+def query_box_tool_registered():
+    from bl_ui.space_toolsystem_common import ToolSelectPanelHelper
+    tools = ToolSelectPanelHelper._tool_class_from_space_type("VIEW_3D")._tools["OBJECT"]
+    return any(getattr(tool, "idname", None) == "mwb.query_box_tool" for tool in tools if tool is not None)
 
 
 def test_register_unregister_cycles_leave_no_handlers_timers_or_draw_callbacks(tmp_path):
@@ -56,17 +64,17 @@ def test_register_unregister_cycles_leave_no_handlers_timers_or_draw_callbacks(t
     run = SESSION.engine
     assert bpy.app.timers.is_registered(sampling.poll_sampling)
     assert len(our_handlers()) == 4 and paths.OVERLAY.active and boxes.OVERLAY.active
-    assert len(our_keymap_items()) == 2
+    assert len(our_keymap_items()) == 4 and query_box_tool_registered()
     for _ in range(3):
         many_worlds.unregister()
-        assert our_handlers() == [] and our_keymap_items() == []
+        assert our_handlers() == [] and our_keymap_items() == [] and not query_box_tool_registered()
         assert not bpy.app.timers.is_registered(sampling.poll_sampling)
         assert not paths.OVERLAY.active and not boxes.OVERLAY.active
         assert not hasattr(bpy.types, "MWB_OT_sample") and not hasattr(bpy.types.Scene, "mwb")
         assert not hasattr(bpy.types, "MWB_OT_draw_box") and not hasattr(bpy.types, "MWB_UL_ranking")
         many_worlds.register()
         assert len(our_handlers()) == 4 and paths.OVERLAY.active and boxes.OVERLAY.active
-        assert len(our_keymap_items()) == 2
+        assert len(our_keymap_items()) == 4 and query_box_tool_registered()
         assert bpy.context.scene.mwb.world_count == 2000, "saved settings survive re-registration"
     # Unregistering stopped the engine; the worlds it finished are in the file.
     assert run.returncode() is not None and SESSION.engine is None

@@ -73,10 +73,14 @@ def native_library_metrics(library):
 def test_bake_writes_a_blend_with_keys_and_no_rigid_bodies(library, tmp_path):
     out = tmp_path / "baked.blend"
     cli("bake", str(library), "--world", "5", "--out", str(out))
+    # Baked objects have location and quaternion keys; the example's animated gate keeps its own.
     check = ("import bpy, sys\n"
-             "keyed = [o for o in bpy.data.objects if o.animation_data and o.animation_data.action]\n"
-             "assert keyed and all(o.rigid_body is None for o in keyed), 'baked objects keep no rigid body'\n"
-             "assert all(len(o.animation_data.action.fcurves) == 7 for o in keyed)\n")
+             "baked = [o for o in bpy.data.objects if o.animation_data and o.animation_data.action and\n"
+             "         o.animation_data.action.fcurves.find('rotation_quaternion', index=3)]\n"
+             "assert len(baked) == 5, [o.name for o in baked]\n"
+             "assert all(o.rigid_body is None for o in baked), 'baked objects keep no rigid body'\n"
+             "assert all(len(o.animation_data.action.fcurves) == 7 for o in baked)\n"
+             "assert bpy.data.objects['Gate'].rigid_body is not None\n")
     result = subprocess.run(["blender", "-b", str(out), "--python-exit-code", "1", "--python-expr", check],
                             capture_output=True, text=True)
     assert result.returncode == 0, result.stderr[-1500:]

@@ -6,10 +6,14 @@ PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 def engine_path():
     """The mwb-engine executable: $MWB_ENGINE, else the one the build copies into the package."""
-    path = os.environ.get("MWB_ENGINE") or os.path.join(PACKAGE_DIR, "bin", "mwb-engine")
+    bundled = os.path.join(PACKAGE_DIR, "bin", "mwb-engine")
+    path = os.environ.get("MWB_ENGINE") or bundled
     if not os.path.isfile(path):
         raise FileNotFoundError(f"mwb-engine not found at {path}: build the project (cmake --build build) "
                                 "or set MWB_ENGINE")
+    if path == bundled and not os.access(path, os.X_OK):
+        # Blender unpacks an installed extension's zip without the files' permission bits.
+        os.chmod(path, os.stat(path).st_mode | 0o111)
     return path
 
 

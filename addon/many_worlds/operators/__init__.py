@@ -1,4 +1,4 @@
-"""Operators grouped by what the user does: sampling and browsing."""
-from . import browsing, sampling
+"""Operators grouped by what the user does: sampling, browsing, querying."""
+from . import browsing, querying, sampling
 
-classes = (*sampling.classes, *browsing.classes)
+classes = (*sampling.classes, *browsing.classes, *querying.classes)

@@ -10,7 +10,7 @@ import sys
 
 import bpy
 
-from .. import export, preview, props
+from .. import export, preview, props, queries
 from ..core import engine as engine_process
 from ..core import paths
 from ..core.session import SESSION
@@ -88,6 +88,8 @@ def _stream_worlds(scene):
     added = SESSION.view.poll()
     if added:
         browsing.sync_world_list(scene)
+        # New worlds arrive matching; the boxes decide (the index adds only the new paths).
+        queries.refresh(scene)
     return added
 
 

@@ -2,7 +2,7 @@
 settings in the Physics properties (where the user already sets the body up)."""
 import bpy
 
-from .. import props
+from .. import props, queries
 from ..core.session import SESSION
 
 
@@ -71,6 +71,70 @@ class MWB_PT_worlds(bpy.types.Panel):
         row.operator("mwb.bake_world", icon="KEYINGSET")
 
 
+class MWB_PT_query(bpy.types.Panel):
+    bl_label = "Query Boxes"
+    bl_idname = "MWB_PT_query"
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "Many Worlds"
+
+    def draw(self, context):
+        layout = self.layout
+        settings = context.scene.mwb
+        text = queries.match_text()
+        if text:
+            layout.label(text=text, icon="FILTER")
+        row = layout.row(align=True)
+        row.operator("mwb.draw_box", icon="SELECT_SET").negative = False
+        row.operator("mwb.draw_box", text="Negative", icon="SELECT_SUBTRACT").negative = True
+        layout.label(text="Ctrl+Alt+drag; with Shift: negative", icon="MOUSE_LMB_DRAG")
+        row = layout.row()
+        row.template_list("MWB_UL_boxes", "", settings, "boxes", settings, "box_index", rows=3)
+        row.operator("mwb.clear_boxes", text="", icon="TRASH")
+        if 0 <= settings.box_index < len(settings.boxes):
+            box = settings.boxes[settings.box_index]
+            col = layout.column(align=True)
+            row = col.row(align=True)
+            row.label(text="Bodies: " + (", ".join(b.name for b in box.bodies) or "none"))
+            row.operator("mwb.box_use_selected", text="", icon="RESTRICT_SELECT_OFF").index = settings.box_index
+            row = col.row(align=True)
+            row.prop(box, "use_time_window")
+            sub = row.row(align=True)
+            sub.active = box.use_time_window
+            sub.prop(box, "time_start_s")
+            sub.prop(box, "time_end_s")
+            col.prop(box, "swept")
+
+
+class MWB_PT_ranking(bpy.types.Panel):
+    bl_label = "Ranking"
+    bl_idname = "MWB_PT_ranking"
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "Many Worlds"
+
+    @classmethod
+    def poll(cls, context):
+        return SESSION.view is not None
+
+    def draw(self, context):
+        layout = self.layout
+        settings = context.scene.mwb
+        row = layout.row(align=True)
+        row.prop(settings, "rank_metric", text="")
+        row.prop(settings, "rank_descending", text="", icon="SORT_DESC" if settings.rank_descending else "SORT_ASC")
+        if settings.rank_metric != "constraints_satisfied":
+            row = layout.row(align=True)
+            row.prop(settings, "rank_combine", expand=True)
+            row = layout.row(align=True)
+            row.prop(settings, "rank_bodies", text="")
+            row.operator("mwb.rank_use_selected", text="", icon="RESTRICT_SELECT_OFF")
+            if settings.rank_bodies == "LISTED":
+                layout.label(text=", ".join(b.name for b in settings.rank_body_names) or "no bodies")
+        # Same collection and active index as the Worlds list: clicking a row previews the world.
+        layout.template_list("MWB_UL_ranking", "", settings, "worlds", settings, "world_list_index", rows=8)
+
+
 class MWB_PT_object_variation(bpy.types.Panel):
     bl_label = "Many Worlds Variation"
     bl_idname = "MWB_PT_object_variation"
@@ -93,4 +157,4 @@ class MWB_PT_object_variation(bpy.types.Panel):
             row.column().prop(v, high)
 
 
-classes = (MWB_PT_sampling, MWB_PT_worlds, MWB_PT_object_variation)
+classes = (MWB_PT_sampling, MWB_PT_worlds, MWB_PT_query, MWB_PT_ranking, MWB_PT_object_variation)

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cerrno>
 #include <cstring>
 
@@ -82,7 +83,10 @@ LibraryWriter::LibraryWriter(const std::string& path, const RunHeader& header)
 }
 
 LibraryWriter::~LibraryWriter() {
-    if (fd_ >= 0) ::close(fd_);
+    if (fd_ >= 0) {
+        ::fdatasync(fd_);
+        ::close(fd_);
+    }
 }
 
 void LibraryWriter::append(const WorldResult& world) {
@@ -103,9 +107,15 @@ void LibraryWriter::append_record(uint32_t type, uint32_t version, const std::ve
     const uint32_t crc = crc32_of(payload.data(), payload.size(), crc32_of(out.bytes().data() + 4, 12));
     out.put(crc);
     out.put_bytes(payload.data(), payload.size());
-    // One write per record: an interruption leaves at most this record incomplete.
+    // One write per record: killing the process leaves at most this record incomplete (the
+    // kernel keeps what was written). Flushing to the disk, against power loss, costs
+    // milliseconds, so it happens at most once a second and when the writer closes.
     write_all(fd_, out.bytes(), path_);
-    if (::fdatasync(fd_) != 0) fail(path_, "flush failed");
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_sync_ >= std::chrono::seconds(1)) {
+        if (::fdatasync(fd_) != 0) fail(path_, "flush failed");
+        last_sync_ = now;
+    }
 }
 
 }  // namespace mwb

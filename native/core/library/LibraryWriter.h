@@ -1,6 +1,7 @@
 #pragma once
 // Appends worlds to a library file so that killing the writer at any instant loses at most the
 // world being written. Not thread-safe: one writer per file, one thread at a time.
+#include <chrono>
 #include <string>
 #include <vector>
 
@@ -20,7 +21,8 @@ public:
     LibraryWriter& operator=(const LibraryWriter&) = delete;
 
     /// Stores an Ok world as a world record or a Rejected one as a rejection record; ignores
-    /// Cancelled worlds. Returns after the record reached the file and was flushed to the disk.
+    /// Cancelled worlds. Returns after the record reached the file (a killed process cannot lose
+    /// it); the disk is flushed at most once a second and when the writer closes.
     void append(const WorldResult& world);
     /// Appends a record exactly as given (merging copies records byte for byte).
     void append_record(uint32_t type, uint32_t version, const std::vector<uint8_t>& payload);
@@ -35,6 +37,7 @@ private:
     RunHeader header_;
     Vec3 gravity_;
     int fd_ = -1;
+    std::chrono::steady_clock::time_point last_sync_ = std::chrono::steady_clock::now();
     std::vector<uint64_t> existing_;
     std::vector<std::string> repairs_;
 };

@@ -16,7 +16,7 @@ namespace mwb {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr int kMaxContactsPerPair = 8;
+constexpr int kMaxContactsPerPair = 4;
 constexpr uint64_t kInitialStream = 0;
 constexpr uint64_t kPerturbationStream = 1;
 

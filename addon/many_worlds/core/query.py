@@ -1,0 +1,138 @@
+"""Box queries and rankings over an open library, without bpy.
+
+A `LibraryQuery` owns the native PathIndex of one LibraryView. The add-on describes boxes as
+plain `BoxSpec` values (read from scene properties by the bpy side) and gets back per-world flags
+in the view's order. The index is incremental: `sync()` indexes only worlds not indexed yet, so
+worlds streaming in while sampling cost only their own trees.
+"""
+from dataclasses import dataclass
+from typing import Optional, Sequence, Tuple
+
+import numpy as np
+
+# Identifiers of the ranking metrics: the library's per-body metrics plus the count of boxes a
+# world satisfies (SPEC section 7: then every world is listed, not only the matching ones).
+CONSTRAINTS_SATISFIED = "constraints_satisfied"
+NATIVE_METRICS = ("angular_travel_rad", "time_to_rest_s", "collision_count", "orientation_change_rad",
+                  "path_length_m", "orientation_to_goal_rad")
+
+
+@dataclass(frozen=True)
+class BoxSpec:
+    """A screen rectangle seen through the view it was drawn in.
+
+    view, projection: (4, 4) row-major world-to-camera and camera-to-clip matrices (OpenGL);
+    size: region (width, height) in pixels; rect: (x0, y0, x1, y1) pixels from the region's
+    bottom-left; bodies: scene body indices; time_window: (start_s, end_s) or None.
+    """
+    view: np.ndarray
+    projection: np.ndarray
+    size: Tuple[int, int]
+    rect: Tuple[float, float, float, float]
+    negative: bool = False
+    bodies: Tuple[int, ...] = ()
+    time_window: Optional[Tuple[float, float]] = None
+    swept: bool = False
+
+
+def normalized_rect(x0, y0, x1, y1):
+    """(min x, min y, max x, max y) of a rectangle dragged in any direction."""
+    return min(x0, x1), min(y0, y1), max(x0, x1), max(y0, y1)
+
+
+def match_count_text(matching, total):
+    """The panel's line, e.g. '37 of 1,500 worlds match'."""
+    noun = "world matches" if total == 1 else "worlds match"
+    return f"{matching:,} of {total:,} {noun}"
+
+
+@dataclass
+class QueryResult:
+    """Outcome of one evaluation, in the LibraryView's (file) order."""
+    matching: np.ndarray          # bool (worlds,)
+    boxes_satisfied: np.ndarray   # uint32 (worlds,)
+    box_count: int
+
+
+class LibraryQuery:
+    """The path index of one LibraryView, the last evaluation and rankings over it."""
+
+    def __init__(self, native, view):
+        self.native = native
+        self.view = view
+        scene = native.Scene.from_json(view.library.header["scene_json"])
+        self.index = native.PathIndex(native.body_bounding_radii(scene))
+        self.generation = 0
+        self.result = None
+        self.sync()
+
+    def sync(self):
+        """Index the view's worlds that are not indexed yet (GIL released); returns how many."""
+        if self.index.world_count == len(self.view.world_indices):
+            return 0
+        return self.index.add_library(self.view.library)
+
+    def native_box(self, spec):
+        return self.native.QueryBox(
+            np.asarray(spec.view, dtype=np.float64).reshape(4, 4),
+            np.asarray(spec.projection, dtype=np.float64).reshape(4, 4),
+            (float(spec.size[0]), float(spec.size[1])), tuple(float(v) for v in spec.rect),
+            negative=bool(spec.negative), bodies=list(spec.bodies),
+            time_window=spec.time_window, swept=bool(spec.swept))
+
+    def evaluate(self, specs: Sequence[BoxSpec]):
+        """Run the boxes (AND) and store the match flags in the view. Returns a QueryResult.
+
+        Each evaluation posts a new generation first, so a query still running for an older box
+        set (from another thread) stops early instead of finishing work nobody will read.
+        """
+        self.sync()
+        file_order = np.asarray(self.view.world_indices, dtype=np.uint64)
+        boxes = [self.native_box(spec) for spec in specs]
+        self.generation += 1
+        self.index.post_generation(self.generation)
+        raw = self.index.query(boxes, generation=self.generation)
+        # The index answers in world-index order; the view (and drawing) uses file order.
+        ids = np.asarray(raw["world_indices"], dtype=np.uint64)
+        satisfied_sorted = np.asarray(raw["boxes_satisfied"], dtype=np.uint32)
+        satisfied = np.zeros(len(file_order), dtype=np.uint32)
+        if len(ids):
+            where = np.minimum(np.searchsorted(ids, file_order), len(ids) - 1)
+            known = ids[where] == file_order
+            satisfied[known] = satisfied_sorted[where[known]]
+        matching = np.isin(file_order, np.asarray(raw["matching"], dtype=np.uint64))
+        self.view.set_matching(matching)
+        self.result = QueryResult(matching, satisfied, len(boxes))
+        return self.result
+
+    def clear(self):
+        """No boxes: every world matches."""
+        self.view.set_matching(np.ones(len(self.view.world_indices), dtype=bool))
+        self.result = QueryResult(self.view.matching.copy(),
+                                  np.zeros(len(self.view.world_indices), dtype=np.uint32), 0)
+        return self.result
+
+    def rank(self, metric, bodies, combine="sum", descending=False, goals=None):
+        """Worlds and values sorted by a metric over bodies: (world ids int64, values float64).
+
+        Native metrics list the matching worlds only; CONSTRAINTS_SATISFIED lists every world with
+        its count of satisfied boxes (ties keep world-index order).
+        """
+        self.sync()
+        if metric == CONSTRAINTS_SATISFIED:
+            ids = np.asarray(self.view.world_indices, dtype=np.int64)
+            values = (self.result.boxes_satisfied.astype(np.float64) if self.result is not None
+                      and len(self.result.boxes_satisfied) == len(ids) else np.zeros(len(ids)))
+            order = np.lexsort((ids, -values if descending else values))
+            return ids[order], values[order]
+        if not bodies:
+            return np.zeros(0, np.int64), np.zeros(0)
+        only = [int(w) for w, m in zip(self.view.world_indices, self.view.matching) if m]
+        if not only:
+            return np.zeros(0, np.int64), np.zeros(0)
+        if metric == "orientation_to_goal_rad" and goals is None:
+            # The object's unrotated pose is the goal: 'land upright' for a model built upright.
+            goals = [(1.0, 0.0, 0.0, 0.0)] * len(bodies)
+        ids, values = self.index.rank(metric, list(bodies), combine=combine, descending=descending,
+                                      only=only, goals=goals)
+        return np.asarray(ids, dtype=np.int64), np.asarray(values, dtype=np.float64)

@@ -1,0 +1,192 @@
+"""Boxes and ranking settings (scene properties) turned into queries on the open library.
+
+The evaluation itself is in core.query (no bpy); this module reads the properties, resolves body
+names to the library's body indices, keeps the session's LibraryQuery in step with the open view,
+and caches the ranking the panel shows.
+"""
+import bpy
+import numpy as np
+
+from .core import query as core_query
+from .core.session import SESSION
+
+classes = ()
+
+
+def library_query():
+    """The LibraryQuery of the open library (built on first use after opening), or None."""
+    view = SESSION.view
+    if view is None:
+        SESSION.query = None
+        return None
+    if SESSION.query is None or SESSION.query.view is not view:
+        from . import _native
+        SESSION.query = core_query.LibraryQuery(_native, view)
+    return SESSION.query
+
+
+# --- bodies -----------------------------------------------------------------------------------------
+
+def simulated_body_names(scene):
+    """Names of the bodies the simulation moves: from the library if one is open, else the scene."""
+    view = SESSION.view
+    if view is not None:
+        return [view.body_names[i] for i in view.simulated_bodies()]
+    rbw = scene.rigidbody_world
+    objects = rbw.collection.objects if rbw is not None and rbw.collection is not None else []
+    return [ob.name for ob in objects
+            if ob.rigid_body is not None and ob.rigid_body.type == "ACTIVE" and not ob.rigid_body.kinematic]
+
+
+def default_body_names(context):
+    """The selected objects that are bodies, or every simulated body when none is selected."""
+    view = SESSION.view
+    known = set(view.body_names) if view is not None else {
+        ob.name for ob in context.scene.objects if ob.rigid_body is not None}
+    selected = [ob.name for ob in (getattr(context, "selected_objects", None) or []) if ob.name in known]
+    return selected or simulated_body_names(context.scene)
+
+
+def body_indices(names, view):
+    """Library body indices of the names it knows, sorted; names it does not know are skipped."""
+    index = {name: i for i, name in enumerate(view.body_names)}
+    return tuple(sorted({index[n] for n in names if n in index}))
+
+
+def ranking_body_names(context):
+    settings = context.scene.mwb
+    if settings.rank_bodies == "SIMULATED":
+        return simulated_body_names(context.scene)
+    if settings.rank_bodies == "LISTED":
+        return [item.name for item in settings.rank_body_names]
+    return default_body_names(context)
+
+
+# --- boxes -------------------------------------------------------------------------------------------
+
+def spec_of(box, view, negative=None):
+    """The BoxSpec of a box property, or None when none of its bodies is in the library."""
+    bodies = body_indices([item.name for item in box.bodies], view)
+    if not bodies:
+        return None
+    return core_query.BoxSpec(
+        view=np.array(box.view_matrix, dtype=np.float64).reshape(4, 4),
+        projection=np.array(box.projection_matrix, dtype=np.float64).reshape(4, 4),
+        size=tuple(box.region_size), rect=core_query.normalized_rect(*box.rect),
+        negative=box.negative if negative is None else negative, bodies=bodies,
+        time_window=(box.time_start_s, max(box.time_start_s, box.time_end_s)) if box.use_time_window else None,
+        swept=box.swept)
+
+
+def drag_spec(view, view_matrix, projection_matrix, size, rect, negative, body_names):
+    """The BoxSpec of a box being dragged (not stored yet), or None if it cannot be queried."""
+    bodies = body_indices(body_names, view)
+    rect = core_query.normalized_rect(*rect)
+    if not bodies or rect[2] - rect[0] < 1 or rect[3] - rect[1] < 1:
+        return None
+    return core_query.BoxSpec(view=np.array(view_matrix, dtype=np.float64).reshape(4, 4),
+                              projection=np.array(projection_matrix, dtype=np.float64).reshape(4, 4),
+                              size=tuple(size), rect=rect, negative=negative, bodies=bodies)
+
+
+def store_box(scene, view_matrix, projection_matrix, size, rect, negative, body_names):
+    """Append a box drawn through a view (4x4 world-to-camera and camera-to-clip) to the scene."""
+    box = scene.mwb.boxes.add()
+    box.rect = core_query.normalized_rect(*rect)
+    box.view_matrix = np.asarray(view_matrix, dtype=np.float64).ravel().tolist()
+    box.projection_matrix = np.asarray(projection_matrix, dtype=np.float64).ravel().tolist()
+    box.region_size = (int(size[0]), int(size[1]))
+    # Set without the update callback: the caller evaluates once the box is complete.
+    box["negative"] = bool(negative)
+    for name in body_names:
+        box.bodies.add().name = name
+    scene.mwb.box_index = len(scene.mwb.boxes) - 1
+    return box
+
+
+def enabled_specs(scene, view):
+    specs = []
+    for box in scene.mwb.boxes:
+        if box.enabled:
+            spec = spec_of(box, view)
+            if spec is not None:
+                specs.append(spec)
+    return specs
+
+
+def refresh(scene, extra=None):
+    """Evaluate the scene's enabled boxes (plus `extra`, a box being dragged) on the open library.
+
+    Updates the view's match flags (drawing rebuilds from them) and returns the QueryResult, or
+    None without a library.
+    """
+    lq = library_query()
+    if lq is None:
+        return None
+    specs = enabled_specs(scene, lq.view)
+    if extra is not None:
+        specs.append(extra)
+    result = lq.evaluate(specs) if specs else lq.clear()
+    _tag_redraw()
+    return result
+
+
+def _tag_redraw():
+    wm = bpy.context.window_manager
+    for window in (wm.windows if wm else []):
+        for area in window.screen.areas:
+            if area.type in ("VIEW_3D", "PROPERTIES"):
+                area.tag_redraw()
+
+
+def match_text():
+    view = SESSION.view
+    if view is None:
+        return ""
+    return core_query.match_count_text(int(view.matching.sum()), len(view.world_indices))
+
+
+# --- ranking ------------------------------------------------------------------------------------------
+
+class RankingCache:
+    """The last ranking, recomputed only when the view's data or matches or the settings change."""
+
+    def __init__(self):
+        self._key = None
+        self.ids = np.zeros(0, np.int64)
+        self.values = np.zeros(0)
+        self.position = {}   # world index -> row in the ranking
+
+    def clear(self):
+        self.__init__()
+
+    def get(self, context):
+        lq = library_query()
+        if lq is None:
+            return self
+        settings = context.scene.mwb
+        bodies = body_indices(ranking_body_names(context), lq.view)
+        result_id = id(lq.result) if lq.result is not None else 0
+        key = (id(lq.view), lq.view.version, result_id, settings.rank_metric, settings.rank_combine,
+               settings.rank_descending, bodies)
+        if key != self._key:
+            self.ids, self.values = lq.rank(settings.rank_metric, bodies, settings.rank_combine.lower(),
+                                            settings.rank_descending)
+            self.position = {int(w): k for k, w in enumerate(self.ids)}
+            self._key = key
+        return self
+
+
+RANKING = RankingCache()
+
+
+def format_metric(metric, value, box_count=0):
+    if metric in ("angular_travel_rad", "orientation_change_rad", "orientation_to_goal_rad"):
+        return f"{np.degrees(value):.1f}\u00b0"
+    if metric == "time_to_rest_s":
+        return f"{value:.2f} s"
+    if metric == "path_length_m":
+        return f"{value:.2f} m"
+    if metric == "collision_count":
+        return f"{int(round(value))} hits"
+    return f"{int(round(value))} of {box_count} boxes"
