@@ -84,7 +84,9 @@ OdeWorld::OdeWorld(const CompiledScene& compiled, const std::vector<BodyInitialS
     dWorldSetAutoDisableFlag(world_, 0);
     dWorldSetContactSurfaceLayer(world_, 0.001);
     dWorldSetContactMaxCorrectingVel(world_, 10.0);
-    space_ = dHashSpaceCreate(nullptr);
+    // Sweep and prune handles the large static boxes (floors, walls) that a hash space tests
+    // against every geom; pairs are sorted afterwards, so its order does not matter.
+    space_ = dSweepAndPruneSpaceCreate(nullptr, dSAP_AXES_XYZ);
     contact_group_ = dJointGroupCreate(0);
     create_bodies();
     create_constraints();
