@@ -118,6 +118,9 @@ def steps():
     r3d.view_distance = 3.0
     area.spaces.active.overlay.show_floor = False
     area.spaces.active.show_region_ui = True
+    area.tag_redraw()
+    # Blender 4.x lets a script pick the sidebar tab only once the sidebar has drawn its tabs.
+    yield
     sidebar = next(r for r in area.regions if r.type == "UI")
     if hasattr(sidebar, "active_panel_category"):
         sidebar.active_panel_category = "Many Worlds"

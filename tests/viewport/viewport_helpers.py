@@ -5,6 +5,7 @@ import sys
 import traceback
 
 import bpy
+import gpu
 import numpy as np
 
 
@@ -22,19 +23,37 @@ def viewport():
 
 
 def screenshot(out_dir, name):
-    """Screenshot of the window saved as out_dir/name; returns the 3D viewport region's RGB pixels."""
+    """The 3D viewport region's RGB pixels as drawn (overlays included), also saved as out_dir/name.
+
+    Read back from the region's framebuffer at the end of a forced redraw: Blender 4.3's screenshot
+    operator returns black under Xvfb with Mesa's llvmpipe, while the framebuffer holds the image.
+    """
     window, area, region = viewport()
-    path = os.path.join(out_dir, name)
-    with bpy.context.temp_override(window=window, area=area, region=region):
-        bpy.ops.screen.screenshot(filepath=path)
-    image = bpy.data.images.load(path)
-    width, height = image.size
-    pixels = np.empty(width * height * 4, np.float32)
-    image.pixels.foreach_get(pixels)
+    captured = {}
+
+    def capture():
+        if bpy.context.region != region:
+            return
+        buffer = gpu.state.active_framebuffer_get().read_color(0, 0, region.width, region.height, 4, 0, "FLOAT")
+        buffer.dimensions = region.width * region.height * 4
+        captured["rgba"] = np.array(buffer, dtype=np.float32).reshape(region.height, region.width, 4)
+
+    # Added last, so it runs after every other overlay of the region.
+    handle = bpy.types.SpaceView3D.draw_handler_add(capture, (), "WINDOW", "POST_PIXEL")
+    try:
+        with bpy.context.temp_override(window=window, area=area, region=region):
+            bpy.ops.wm.redraw_timer(type="DRAW", iterations=1)
+    finally:
+        bpy.types.SpaceView3D.draw_handler_remove(handle, "WINDOW")
+    rgba = captured["rgba"]
+    image = bpy.data.images.new(name, region.width, region.height)
+    image.pixels.foreach_set(np.clip(rgba, 0, 1).ravel())
+    image.filepath_raw = os.path.join(out_dir, name)
+    image.file_format = "PNG"
+    image.save()
     bpy.data.images.remove(image)
-    rgb = pixels.reshape(height, width, 4)[..., :3]
-    # Blender images start at the bottom-left, like region coordinates within the window.
-    return rgb[region.y:region.y + region.height, region.x:region.x + region.width]
+    # Framebuffer rows start at the bottom-left, like region coordinates.
+    return rgba[..., :3]
 
 
 def run_steps(steps, tick_s):
