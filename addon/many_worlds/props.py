@@ -129,6 +129,12 @@ class MWB_SceneSettings(bpy.types.PropertyGroup):
         items=[("ACTIVE", "Simulated Bodies", "Paths of every body the simulation moves"),
                ("SELECTED", "Selected Objects", "Paths of the selected objects only")])
     path_width: FloatProperty(name="Width", default=2.0, min=1.0, max=10.0, update=_tag_redraw)
+    family_only: BoolProperty(name="Family of Selected World", default=False, update=_tag_redraw,
+                              description="List only the selected world's root, ancestors and children "
+                                          "(refined worlds), and dim the other paths")
+    # Refinement
+    refine_count: IntProperty(name="Refine Worlds", default=16, min=1, soft_max=1000,
+                              description="Worlds to add per refinement")
     # Queries and ranking
     boxes: CollectionProperty(type=MWB_QueryBox)
     box_index: IntProperty(name="Box", default=-1)

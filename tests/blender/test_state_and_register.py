@@ -3,9 +3,10 @@ import bpy
 import numpy as np
 
 from conftest import drop_scene, sample_and_wait, save_blend
+from test_queries import PROJECTION, SIZE, VIEW
 
 import many_worlds
-from many_worlds import handlers, preview
+from many_worlds import _native, handlers, preview
 from many_worlds.core.session import SESSION
 from many_worlds.draw import boxes, paths
 from many_worlds.operators import sampling
@@ -72,6 +73,8 @@ def test_register_unregister_cycles_leave_no_handlers_timers_or_draw_callbacks(t
         assert not paths.OVERLAY.active and not boxes.OVERLAY.active
         assert not hasattr(bpy.types, "MWB_OT_sample") and not hasattr(bpy.types.Scene, "mwb")
         assert not hasattr(bpy.types, "MWB_OT_draw_box") and not hasattr(bpy.types, "MWB_UL_ranking")
+        assert not hasattr(bpy.types, "MWB_OT_refine_box") and not hasattr(bpy.types, "MWB_OT_go_to_parent")
+        assert not hasattr(bpy.types, "MWB_PT_refine")
         many_worlds.register()
         assert len(our_handlers()) == 4 and paths.OVERLAY.active and boxes.OVERLAY.active
         assert len(our_keymap_items()) == 4 and query_box_tool_registered()
@@ -80,3 +83,25 @@ def test_register_unregister_cycles_leave_no_handlers_timers_or_draw_callbacks(t
     assert run.returncode() is not None and SESSION.engine is None
     assert handlers.on_load_post in bpy.app.handlers.load_post
     assert preview.on_frame_change in bpy.app.handlers.frame_change_pre
+
+
+def test_unregister_stops_a_refinement_and_keeps_its_finished_children(tmp_path):
+    drop_scene(bodies=1, frame_end=240)
+    save_blend(tmp_path)
+    sample_and_wait(1, threads=1, stop_at_rest=False)
+    bpy.ops.mwb.select_world(world=0)
+    for ob in bpy.context.view_layer.objects:
+        ob.select_set(ob.name == "Box0")
+    mwb = bpy.context.scene.mwb
+    mwb.refine_count, mwb.threads = 5000, 1
+    # The whole view: Box0 is inside from the start, so the children branch at 0 s.
+    assert bpy.ops.mwb.refine(rect=(0, 0, 1600, 1000), view_matrix=VIEW.ravel().tolist(),
+                              projection_matrix=PROJECTION.ravel().tolist(), region_size=SIZE) == {"FINISHED"}
+    run = SESSION.engine
+    assert run is not None and bpy.app.timers.is_registered(sampling.poll_sampling)
+    many_worlds.unregister()
+    assert run.returncode() is not None and SESSION.engine is None
+    assert not bpy.app.timers.is_registered(sampling.poll_sampling)
+    library = _native.Library(str(tmp_path / "shot.mwb"))
+    assert all(library.world_info(w)["parent_world"] == 0 for w in library.world_indices if w != 0)
+    many_worlds.register()

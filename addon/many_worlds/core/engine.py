@@ -37,6 +37,18 @@ def sample_command(engine, scene_json, library, seed, first_world, world_count, 
     return argv
 
 
+def refine_command(engine, library, world, bodies, time_s, count, threads, first_child=None):
+    """The argument list of one `mwb-engine refine` run: `count` children of `world` branching at
+    `time_s` (snapped down to a recorded frame by the engine), re-simulating the scene body indices
+    `bodies`. The children are appended to `library` itself."""
+    argv = [engine, "refine", "--library", library, "--world", str(int(world)),
+            "--bodies", ",".join(str(int(b)) for b in bodies), "--time", repr(float(time_s)),
+            "--count", str(int(count)), "--threads", str(int(threads)), "--progress"]
+    if first_child is not None:
+        argv += ["--first-child", str(int(first_child))]
+    return argv
+
+
 class EngineRun:
     """One running `mwb-engine` child. Thread-safe to poll from the UI thread."""
 

@@ -7,6 +7,8 @@ import json
 
 import numpy as np
 
+from . import family as core_family
+
 
 class LibraryView:
     """An open .mwb library and the browsing state that is not saved with the .blend."""
@@ -25,6 +27,7 @@ class LibraryView:
         self.matching = np.zeros(0, dtype=bool)
         self.version = 0
         self._decoded = {}
+        self._lineages = {}
         self._add_worlds()
 
     def _add_worlds(self):
@@ -41,6 +44,17 @@ class LibraryView:
         """Read worlds the engine appended since the last call; returns how many arrived."""
         self.library.poll()
         return self._add_worlds()
+
+    def lineages(self):
+        """{world: core.family.Lineage} of every world; read once per world (worlds never change)."""
+        for world in self.world_indices:
+            if world not in self._lineages:
+                self._lineages[world] = core_family.lineage_of(self.library, world)
+        return self._lineages
+
+    def family(self, world):
+        """{world: relation} of `world`'s root, ancestors, itself and children (core.family)."""
+        return core_family.family(self.lineages(), world)
 
     def set_matching(self, flags):
         """Replace the per-world match flags (file order); drawing rebuilds on the next redraw."""

@@ -1,6 +1,7 @@
 """The path overlay: every sampled path of the chosen bodies in the 3D viewport.
 
-Matching worlds are drawn bright, the others faint, the selected world on top and wider. Batches
+Matching worlds are drawn bright, the others faint (and, with Family of Selected World on, every
+world outside that family), the selected world on top and wider. Batches
 are cached and rebuilt only when the library's data or match state (LibraryView.version), the
 chosen bodies or the selected world change; per-world line segments are cached too, so a new
 world costs only its own arrays.
@@ -69,11 +70,13 @@ class PathOverlay:
             return None
         return batch_for_shader(self._shader, "LINES", {"pos": np.concatenate(parts)})
 
-    def _rebuild(self, view, bodies, selected):
+    def _rebuild(self, view, bodies, selected, family_only):
         if self._shader is None:
             self._shader = compat.builtin_shader("POLYLINE_UNIFORM_COLOR")
+        family = view.family(selected) if family_only else None
         matching, rejected = [], []
         for world, match in zip(view.world_indices, view.matching):
+            match = match and (family is None or world in family)
             if world != selected:
                 (matching if match else rejected).append(self._world_segments(view, world, bodies))
         self._batches = []
@@ -93,11 +96,12 @@ class PathOverlay:
             return []
         bodies = chosen_bodies(context, view)
         selected = context.scene.mwb.selected_world
-        key = (id(view), view.version, bodies, selected)
+        family_only = context.scene.mwb.family_only
+        key = (id(view), view.version, bodies, selected, family_only)
         if key != self._key:
             if self._key is None or self._key[0] != id(view):
                 self._segments = {}
-            self._rebuild(view, bodies, selected)
+            self._rebuild(view, bodies, selected, family_only)
             self._key = key
         return self._batches
 

@@ -1,4 +1,4 @@
-"""Operators grouped by what the user does: sampling, browsing, querying."""
-from . import browsing, querying, sampling
+"""Operators grouped by what the user does: sampling, browsing, querying, refining."""
+from . import browsing, querying, refining, sampling
 
-classes = (*sampling.classes, *browsing.classes, *querying.classes)
+classes = (*sampling.classes, *browsing.classes, *querying.classes, *refining.classes)

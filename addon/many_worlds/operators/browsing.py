@@ -99,4 +99,26 @@ class MWB_OT_select_world(bpy.types.Operator):
         return {"FINISHED"}
 
 
-classes = (MWB_OT_open_library, MWB_OT_select_world)
+class MWB_OT_go_to_parent(bpy.types.Operator):
+    """Preview the world the selected world was refined from"""
+    bl_idname = "mwb.go_to_parent"
+    bl_label = "Go to Parent"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        view = SESSION.view
+        world = context.scene.mwb.selected_world
+        return view is not None and world in view.world_indices and view.lineages()[world].parent >= 0
+
+    def execute(self, context):
+        view = SESSION.view
+        parent = view.lineages()[context.scene.mwb.selected_world].parent
+        if parent not in view.world_indices:
+            self.report({"ERROR"}, f"The parent world {parent} is not in the library")
+            return {"CANCELLED"}
+        context.scene.mwb.world_list_index = view.world_indices.index(parent)
+        return {"FINISHED"}
+
+
+classes = (MWB_OT_open_library, MWB_OT_select_world, MWB_OT_go_to_parent)

@@ -32,18 +32,15 @@ def viewport_at(window, x, y):
     return None, None
 
 
-class MWB_OT_draw_box(bpy.types.Operator):
-    """Drag a query box in the 3D viewport: keep worlds whose paths enter it (Shift: stay out of it)"""
-    bl_idname = "mwb.draw_box"
-    bl_label = "Draw Query Box"
-    bl_options = {"REGISTER", "UNDO"}
+class BoxDrag:
+    """The modal part of drawing a box in a 3D viewport, shared by the query box and refine tools.
 
-    negative: BoolProperty(name="Negative", default=False,
-                           description="Draw a negative box (Shift while dragging does the same)")
+    A subclass sets `_hint` (status bar text while waiting for the press) and implements
+    `_prepare(context)` (False cancels; it reports why), `_dragged(context, event)` (header text
+    while dragging) and `_released(context, event, rect)` (the operator's result).
+    """
 
-    @classmethod
-    def poll(cls, context):
-        return context.window is not None and hasattr(context.scene, "mwb")
+    _hint = ""
 
     # --- state ---------------------------------------------------------------------------------
 
@@ -60,23 +57,10 @@ class MWB_OT_draw_box(bpy.types.Operator):
     def _rect(self):
         return normalized_rect(*self._start_px, *self._end_px)
 
-    def _is_negative(self, event):
-        return self.negative or event.shift
-
     def _update(self, context, event):
         region = self._region
         self._end_px = (event.mouse_x - region.x, event.mouse_y - region.y)
-        negative = self._is_negative(event)
-        box_overlay.OVERLAY.dragging = (region.as_pointer(), self._rect(), negative)
-        spec = None
-        if SESSION.view is not None:
-            spec = queries.drag_spec(SESSION.view, region.data.view_matrix, region.data.window_matrix,
-                                     (region.width, region.height), self._rect(), negative, self._bodies)
-        # The match count follows the box while it is dragged: one query per mouse move.
-        queries.refresh(context.scene, extra=spec)
-        kind = "negative" if negative else "positive"
-        self._area.header_text_set(f"{queries.match_text() or 'No library open'} | {kind} box | "
-                                   "Shift: negative | Esc / right-click: cancel")
+        self._area.header_text_set(self._dragged(context, event))
         self._area.tag_redraw()
 
     def _end(self, context):
@@ -90,9 +74,7 @@ class MWB_OT_draw_box(bpy.types.Operator):
     def invoke(self, context, event):
         self._area = self._region = None
         self._dragging = False
-        self._bodies = queries.default_body_names(context)
-        if not self._bodies:
-            self.report({"WARNING"}, "No rigid bodies to query")
+        if not self._prepare(context):
             return {"CANCELLED"}
         if event.type == "LEFTMOUSE" and event.value == "CLICK_DRAG":
             # Started by a click-drag keymap item: the box begins where the button went down.
@@ -102,8 +84,7 @@ class MWB_OT_draw_box(bpy.types.Operator):
         if self._dragging:
             self._update(context, event)
         else:
-            context.workspace.status_text_set("Many Worlds: drag a box in the 3D viewport "
-                                              "(Shift: negative; Esc / right-click: cancel)")
+            context.workspace.status_text_set(self._hint)
         return {"RUNNING_MODAL"}
 
     def modal(self, context, event):
@@ -117,7 +98,12 @@ class MWB_OT_draw_box(bpy.types.Operator):
                 return {"RUNNING_MODAL"}
             return {"PASS_THROUGH"} if event.type in _NAVIGATION else {"RUNNING_MODAL"}
         if event.type == "LEFTMOUSE" and event.value == "RELEASE":
-            return self._finish(context, event)
+            self._end_px = (event.mouse_x - self._region.x, event.mouse_y - self._region.y)
+            x0, y0, x1, y1 = self._rect()
+            if x1 - x0 < MIN_BOX_PX or y1 - y0 < MIN_BOX_PX:
+                return self._cancel(context)
+            self._end(context)
+            return self._released(context, event, (x0, y0, x1, y1))
         if event.type in {"MOUSEMOVE", "LEFT_SHIFT", "RIGHT_SHIFT", "INBETWEEN_MOUSEMOVE"}:
             self._update(context, event)
         return {"RUNNING_MODAL"}
@@ -128,15 +114,50 @@ class MWB_OT_draw_box(bpy.types.Operator):
         queries.refresh(context.scene)
         return {"CANCELLED"}
 
-    def _finish(self, context, event):
-        self._end_px = (event.mouse_x - self._region.x, event.mouse_y - self._region.y)
-        x0, y0, x1, y1 = self._rect()
-        if x1 - x0 < MIN_BOX_PX or y1 - y0 < MIN_BOX_PX:
-            return self._cancel(context)
-        self._end(context)
+
+class MWB_OT_draw_box(BoxDrag, bpy.types.Operator):
+    """Drag a query box in the 3D viewport: keep worlds whose paths enter it (Shift: stay out of it)"""
+    bl_idname = "mwb.draw_box"
+    bl_label = "Draw Query Box"
+    bl_options = {"REGISTER", "UNDO"}
+
+    negative: BoolProperty(name="Negative", default=False,
+                           description="Draw a negative box (Shift while dragging does the same)")
+
+    _hint = "Many Worlds: drag a box in the 3D viewport (Shift: negative; Esc / right-click: cancel)"
+
+    @classmethod
+    def poll(cls, context):
+        return context.window is not None and hasattr(context.scene, "mwb")
+
+    def _is_negative(self, event):
+        return self.negative or event.shift
+
+    def _prepare(self, context):
+        self._bodies = queries.default_body_names(context)
+        if not self._bodies:
+            self.report({"WARNING"}, "No rigid bodies to query")
+            return False
+        return True
+
+    def _dragged(self, context, event):
+        region = self._region
+        negative = self._is_negative(event)
+        box_overlay.OVERLAY.dragging = (region.as_pointer(), self._rect(), negative)
+        spec = None
+        if SESSION.view is not None:
+            spec = queries.drag_spec(SESSION.view, region.data.view_matrix, region.data.window_matrix,
+                                     (region.width, region.height), self._rect(), negative, self._bodies)
+        # The match count follows the box while it is dragged: one query per mouse move.
+        queries.refresh(context.scene, extra=spec)
+        kind = "negative" if negative else "positive"
+        return (f"{queries.match_text() or 'No library open'} | {kind} box | "
+                "Shift: negative | Esc / right-click: cancel")
+
+    def _released(self, context, event, rect):
         region = self._region
         queries.store_box(context.scene, region.data.view_matrix, region.data.window_matrix,
-                          (region.width, region.height), (x0, y0, x1, y1), self._is_negative(event), self._bodies)
+                          (region.width, region.height), rect, self._is_negative(event), self._bodies)
         queries.refresh(context.scene)
         self.report({"INFO"}, queries.match_text() or "Box stored; open a library to query it")
         return {"FINISHED"}

@@ -39,7 +39,7 @@ def start_sampling(context):
     scene = context.scene
     settings = scene.mwb
     if SESSION.engine is not None:
-        return False, "Sampling is already running", []
+        return False, f"{SESSION.run_label} is already running", []
     library = props.resolved_library_path(scene)
     if not library:
         return False, "Save the .blend first (the library is written next to it) or set a library path", []
@@ -68,6 +68,7 @@ def start_sampling(context):
     SESSION.engine = engine_process.EngineRun(argv)
     SESSION.sampling_scene = scene.name
     SESSION.sampling_library = library
+    SESSION.run_label = "Sampling"
     SESSION.last_error = ""
     SESSION.status = f"Sampling worlds {first} to {first + settings.world_count - 1}"
     if not bpy.app.timers.is_registered(poll_sampling):
@@ -104,7 +105,7 @@ def poll_sampling():
         browsing.tag_redraw_all()
     done, total, _ = run.progress()
     if not finished:
-        SESSION.status = f"Sampling: {done} / {total} worlds"
+        SESSION.status = f"{SESSION.run_label}: {done} / {total} worlds"
         _set_status_text(f"Many Worlds: {SESSION.status} (Esc to cancel)")
         return POLL_INTERVAL_S
     failure = run.failure()
@@ -114,12 +115,13 @@ def poll_sampling():
             failure += (" - the scene or settings changed since this library was sampled; set another "
                         "library path (or remove the file) to start a new library")
         SESSION.last_error = failure
-        SESSION.status = f"Sampling failed: {failure}"
+        SESSION.status = f"{SESSION.run_label} failed: {failure}"
         print(f"Many Worlds: {SESSION.status}", file=sys.stderr)
     elif run.cancel_requested:
-        SESSION.status = f"Sampling cancelled; the library keeps {stored} worlds"
+        SESSION.status = f"{SESSION.run_label} cancelled; the library keeps {stored} worlds"
     else:
-        SESSION.status = f"Sampled {done} worlds; the library holds {stored}"
+        verb = "Sampled" if SESSION.run_label == "Sampling" else "Refined into"
+        SESSION.status = f"{verb} {done} worlds; the library holds {stored}"
     SESSION.engine = None
     _set_status_text(None)
     browsing.tag_redraw_all()
@@ -187,7 +189,7 @@ class MWB_OT_sample(bpy.types.Operator):
 
 
 class MWB_OT_cancel_sampling(bpy.types.Operator):
-    """Stop sampling; every finished world stays in the library"""
+    """Stop sampling or refining; every finished world stays in the library"""
     bl_idname = "mwb.cancel_sampling"
     bl_label = "Cancel Sampling"
 

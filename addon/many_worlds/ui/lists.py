@@ -2,15 +2,59 @@
 import bpy
 
 from .. import queries
+from ..core import family as core_family
+from ..core.session import SESSION
 from ..draw.boxes import view_matches
 
 
+_RELATION_ICONS = {core_family.SELECTED: "RADIOBUT_ON", core_family.ROOT: "WORLD",
+                   core_family.ANCESTOR: "TRIA_UP", core_family.CHILD: "TRIA_DOWN"}
+
+
+def family_rows(settings, items):
+    """(shown, order) for UIList.filter_items listing the selected world's family, or None to list
+    every world in file order. shown: bool per item; order: each item's row, root first, down to
+    the children, then the hidden items."""
+    view = SESSION.view
+    if not settings.family_only or view is None:
+        return None
+    members = view.family(settings.selected_world)
+    lineages = view.lineages()
+    shown = [item.world_index in members for item in items]
+    keyed = sorted((core_family.depth(lineages, item.world_index), item.world_index, k)
+                   for k, item in enumerate(items) if shown[k])
+    keyed += [(0, 0, k) for k in range(len(items)) if not shown[k]]
+    order = [0] * len(items)
+    for row, (_, _, k) in enumerate(keyed):
+        order[k] = row
+    return shown, order
+
+
 class MWB_UL_worlds(bpy.types.UIList):
-    """One row per world: index, when it came to rest, collisions, how far the bodies travelled."""
+    """One row per world: index, where it came from (refined worlds), when it came to rest,
+    collisions, how far the bodies travelled. With Family of Selected World on, only the selected
+    world's root, ancestors and children are listed, indented by generation."""
+
+    def filter_items(self, context, data, propname):
+        rows = family_rows(context.scene.mwb, getattr(data, propname))
+        if rows is None:
+            return [], []
+        shown, order = rows
+        return [self.bitflag_filter_item if s else 0 for s in shown], order
 
     def draw_item(self, context, layout, data, item, icon, active_data, active_propname, index=0, flt_flag=0):
+        settings = context.scene.mwb
+        view = SESSION.view
+        lineages = view.lineages() if view is not None else {}
+        line = lineages.get(item.world_index)
         row = layout.row(align=True)
-        row.label(text=f"World {item.world_index}")
+        relation = view.family(settings.selected_world).get(item.world_index) if (
+            settings.family_only and view is not None) else None
+        if relation is not None:
+            row.separator(factor=1.5 * core_family.depth(lineages, item.world_index))
+        row.label(text=f"World {item.world_index}", icon=_RELATION_ICONS.get(relation, "NONE"))
+        if line is not None and line.parent >= 0:
+            row.label(text=core_family.relation_text(line))
         row.label(text=f"rest {item.rest_s:.2f} s")
         row.label(text=f"{item.collisions} hits")
         row.label(text=f"{item.travel_m:.2f} m")

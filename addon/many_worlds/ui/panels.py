@@ -37,7 +37,7 @@ class MWB_PT_sampling(bpy.types.Panel):
             row.operator("mwb.sample", icon="PLAY")
             row.operator("mwb.check_scene", text="", icon="VIEWZOOM")
         else:
-            row.operator("mwb.cancel_sampling", icon="CANCEL")
+            row.operator("mwb.cancel_sampling", text=f"Cancel {SESSION.run_label}", icon="CANCEL")
         if SESSION.status:
             layout.label(text=SESSION.status, icon="INFO")
         if SESSION.last_error:
@@ -63,12 +63,41 @@ class MWB_PT_worlds(bpy.types.Panel):
                           f"{len(view.library.rejections)} rejected")
         layout.template_list("MWB_UL_worlds", "", settings, "worlds", settings, "world_list_index", rows=6)
         row = layout.row(align=True)
+        row.prop(settings, "family_only", toggle=True, icon="OUTLINER")
+        row.operator("mwb.go_to_parent", icon="TRIA_UP")
+        row = layout.row(align=True)
         row.prop(settings, "show_paths")
         row.prop(settings, "path_width")
         layout.prop(settings, "path_bodies")
         row = layout.row(align=True)
         row.operator("mwb.end_preview", icon="LOOP_BACK")
         row.operator("mwb.bake_world", icon="KEYINGSET")
+
+
+class MWB_PT_refine(bpy.types.Panel):
+    bl_label = "Refine"
+    bl_idname = "MWB_PT_refine"
+    bl_space_type = "VIEW_3D"
+    bl_region_type = "UI"
+    bl_category = "Many Worlds"
+
+    @classmethod
+    def poll(cls, context):
+        return SESSION.view is not None
+
+    def draw(self, context):
+        layout = self.layout
+        settings = context.scene.mwb
+        layout.use_property_split = True
+        layout.prop(settings, "refine_count")
+        if SESSION.engine is None:
+            layout.operator("mwb.refine_box", icon="SELECT_SET")
+            world = settings.selected_world
+            layout.label(text=f"Objects selected in world {world}, then drag over the path to change"
+                         if world >= 0 else "Select a world and objects first", icon="MOUSE_LMB_DRAG")
+        else:
+            layout.operator("mwb.cancel_sampling", text=f"Cancel {SESSION.run_label}", icon="CANCEL")
+            layout.label(text=SESSION.status, icon="INFO")
 
 
 class MWB_PT_query(bpy.types.Panel):
@@ -157,4 +186,5 @@ class MWB_PT_object_variation(bpy.types.Panel):
             row.column().prop(v, high)
 
 
-classes = (MWB_PT_sampling, MWB_PT_worlds, MWB_PT_query, MWB_PT_ranking, MWB_PT_object_variation)
+classes = (MWB_PT_sampling, MWB_PT_worlds, MWB_PT_refine, MWB_PT_query, MWB_PT_ranking,
+           MWB_PT_object_variation)
