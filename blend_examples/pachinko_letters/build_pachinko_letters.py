@@ -6,8 +6,9 @@ letters in place; the paper's user got all of them there by refining one or two 
 
 Run:  blender -b --factory-startup --python blend_examples/pachinko_letters/build_pachinko_letters.py -- OUT.blend
 Letters are COMPOUND rigid bodies (Blender 3.4's "Compound Parent" shape): the letter object holds
-the visible mesh, its children are the BOX parts it collides with. Everything is made from nothing with Blender's own rigid-body settings, plus the Many-Worlds
-add-on's variation ranges and sampling settings (helpers in ../example_kit.py).
+the visible mesh, its children are the BOX parts it collides with. Everything is made from nothing
+with Blender's own rigid-body settings, plus the Many-Worlds add-on's variation ranges and sampling
+settings (helpers in ../example_kit.py).
 """
 import math
 import os

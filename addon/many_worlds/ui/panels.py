@@ -6,12 +6,24 @@ from .. import props, queries
 from ..core.session import SESSION
 
 
-class MWB_PT_sampling(bpy.types.Panel):
-    bl_label = "Sampling"
-    bl_idname = "MWB_PT_sampling"
+class SidebarPanel:
+    """Placement of the add-on's panels: the 3D view's sidebar, tab "Many Worlds"."""
     bl_space_type = "VIEW_3D"
     bl_region_type = "UI"
     bl_category = "Many Worlds"
+
+
+class LibraryPanel(SidebarPanel):
+    """A sidebar panel that only makes sense while a library is open."""
+
+    @classmethod
+    def poll(cls, context):
+        return SESSION.view is not None
+
+
+class MWB_PT_sampling(SidebarPanel, bpy.types.Panel):
+    bl_label = "Sampling"
+    bl_idname = "MWB_PT_sampling"
 
     def draw(self, context):
         layout = self.layout
@@ -44,12 +56,9 @@ class MWB_PT_sampling(bpy.types.Panel):
             layout.label(text=SESSION.last_error, icon="ERROR")
 
 
-class MWB_PT_worlds(bpy.types.Panel):
+class MWB_PT_worlds(SidebarPanel, bpy.types.Panel):
     bl_label = "Worlds"
     bl_idname = "MWB_PT_worlds"
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Many Worlds"
 
     def draw(self, context):
         layout = self.layout
@@ -74,16 +83,9 @@ class MWB_PT_worlds(bpy.types.Panel):
         row.operator("mwb.bake_world", icon="KEYINGSET")
 
 
-class MWB_PT_refine(bpy.types.Panel):
+class MWB_PT_refine(LibraryPanel, bpy.types.Panel):
     bl_label = "Refine"
     bl_idname = "MWB_PT_refine"
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Many Worlds"
-
-    @classmethod
-    def poll(cls, context):
-        return SESSION.view is not None
 
     def draw(self, context):
         layout = self.layout
@@ -100,12 +102,9 @@ class MWB_PT_refine(bpy.types.Panel):
             layout.label(text=SESSION.status, icon="INFO")
 
 
-class MWB_PT_query(bpy.types.Panel):
+class MWB_PT_query(SidebarPanel, bpy.types.Panel):
     bl_label = "Query Boxes"
     bl_idname = "MWB_PT_query"
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Many Worlds"
 
     def draw(self, context):
         layout = self.layout
@@ -135,16 +134,9 @@ class MWB_PT_query(bpy.types.Panel):
             col.prop(box, "swept")
 
 
-class MWB_PT_ranking(bpy.types.Panel):
+class MWB_PT_ranking(LibraryPanel, bpy.types.Panel):
     bl_label = "Ranking"
     bl_idname = "MWB_PT_ranking"
-    bl_space_type = "VIEW_3D"
-    bl_region_type = "UI"
-    bl_category = "Many Worlds"
-
-    @classmethod
-    def poll(cls, context):
-        return SESSION.view is not None
 
     def draw(self, context):
         layout = self.layout
