@@ -32,6 +32,22 @@ def viewport_at(window, x, y):
     return None, None
 
 
+def camera_of(operator, context):
+    """(view, projection, region size) from the operator's properties, each missing one from the
+    current 3D view; None (reported) when neither is there."""
+    view, projection = list(operator.view_matrix), list(operator.projection_matrix)
+    size = tuple(operator.region_size)
+    region, region_3d = context.region, context.region_data
+    if not any(view) or not any(projection) or 0 in size:
+        if region_3d is None:
+            operator.report({"ERROR"}, "Give the view, projection and region size, or run in a 3D viewport")
+            return None
+        view = view if any(view) else [v for row in region_3d.view_matrix for v in row]
+        projection = projection if any(projection) else [v for row in region_3d.window_matrix for v in row]
+        size = size if 0 not in size else (region.width, region.height)
+    return view, projection, size
+
+
 class BoxDrag:
     """The modal part of drawing a box in a 3D viewport, shared by the query box and refine tools.
 
@@ -179,15 +195,10 @@ class MWB_OT_add_box(bpy.types.Operator):
     bodies: StringProperty(name="Bodies", description="Comma-separated object names; empty: selected or all simulated")
 
     def execute(self, context):
-        view, projection, size = list(self.view_matrix), list(self.projection_matrix), tuple(self.region_size)
-        region, region_3d = context.region, context.region_data
-        if not any(view) or not any(projection) or 0 in size:
-            if region_3d is None:
-                self.report({"ERROR"}, "Give the view, projection and region size, or run in a 3D viewport")
-                return {"CANCELLED"}
-            view = view if any(view) else [v for row in region_3d.view_matrix for v in row]
-            projection = projection if any(projection) else [v for row in region_3d.window_matrix for v in row]
-            size = size if 0 not in size else (region.width, region.height)
+        camera = camera_of(self, context)
+        if camera is None:
+            return {"CANCELLED"}
+        view, projection, size = camera
         names = [n.strip() for n in self.bodies.split(",") if n.strip()] or queries.default_body_names(context)
         x0, y0, x1, y1 = normalized_rect(*self.rect)
         if x1 - x0 <= 0 or y1 - y0 <= 0:

@@ -16,7 +16,7 @@ from ..core.query import normalized_rect
 from ..core.session import SESSION
 from ..draw import boxes as box_overlay
 from . import sampling
-from .querying import BoxDrag
+from .querying import BoxDrag, camera_of
 
 
 def selected_body_names(context, view):
@@ -108,15 +108,10 @@ class MWB_OT_refine(bpy.types.Operator):
         return SESSION.engine is None and SESSION.view is not None
 
     def execute(self, context):
-        view, projection, size = list(self.view_matrix), list(self.projection_matrix), tuple(self.region_size)
-        region, region_3d = context.region, context.region_data
-        if not any(view) or not any(projection) or 0 in size:
-            if region_3d is None:
-                self.report({"ERROR"}, "Give the view, projection and region size, or run in a 3D viewport")
-                return {"CANCELLED"}
-            view = view if any(view) else [v for row in region_3d.view_matrix for v in row]
-            projection = projection if any(projection) else [v for row in region_3d.window_matrix for v in row]
-            size = size if 0 not in size else (region.width, region.height)
+        camera = camera_of(self, context)
+        if camera is None:
+            return {"CANCELLED"}
+        view, projection, size = camera
         rect = normalized_rect(*self.rect)
         if rect[2] - rect[0] <= 0 or rect[3] - rect[1] <= 0:
             self.report({"ERROR"}, "The rectangle is empty")
