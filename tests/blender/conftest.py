@@ -2,10 +2,14 @@
 helpers that build rigid-body scenes the way a user would (operators on real objects)."""
 import math
 import os
+import sys
 import time
 
 import bpy
 import pytest
+
+# Test helpers shared by the Python and the in-Blender suites.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "shared"))
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 

@@ -2,39 +2,18 @@
 sampled: the add-on's matches equal a direct PathIndex query and a brute-force check on decoded
 paths; boxes combine by AND; rankings follow the library's metric values; boxes and ranking
 settings survive save and reload."""
-import math
 
 import bpy
 import numpy as np
 import pytest
 
+from camera_math import look_at, perspective
 from conftest import drop_scene, sample_and_wait, save_blend
 
 from many_worlds import _native, queries
 from many_worlds.core.session import SESSION
 
 SIZE = (1600, 1000)
-
-
-def look_at(eye, target):
-    """World-to-camera matrix of a camera at eye looking at target, Z up (OpenGL convention)."""
-    eye, target = np.asarray(eye, float), np.asarray(target, float)
-    forward = (target - eye) / np.linalg.norm(target - eye)
-    right = np.cross(forward, [0, 0, 1])
-    right /= np.linalg.norm(right)
-    up = np.cross(right, forward)
-    view = np.identity(4)
-    view[0, :3], view[1, :3], view[2, :3] = right, up, -forward
-    view[:3, 3] = -view[:3, :3] @ eye
-    return view
-
-
-def perspective(fov_y, aspect, near, far):
-    c = 1 / math.tan(fov_y / 2)
-    return np.array([[c / aspect, 0, 0, 0], [0, c, 0, 0],
-                     [0, 0, -(far + near) / (far - near), -2 * far * near / (far - near)], [0, 0, -1, 0]])
-
-
 VIEW = look_at([0.3, -1.0, 2.5], [0.3, 0.0, 0.05])
 PROJECTION = perspective(0.8, SIZE[0] / SIZE[1], 0.1, 100)
 

@@ -2,8 +2,12 @@
 import os
 import shutil
 import subprocess
+import sys
 
 import pytest
+
+# Test helpers shared by the Python and the in-Blender suites.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "shared"))
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 SCENES = os.path.join(ROOT, "tests", "scenes")
