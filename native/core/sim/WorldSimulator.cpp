@@ -24,6 +24,23 @@ constexpr uint64_t kPerturbationStream = 1;
 // once corrupt each other.
 std::mutex g_trimesh_mutex;
 
+// Up to `max` contacts between two geoms, holding the mesh lock when either is a triangle mesh.
+int collide(dGeomID a, dGeomID b, bool either_is_mesh, int max, dContactGeom* out) {
+    if (!either_is_mesh) return dCollide(a, b, max, out, sizeof(dContactGeom));
+    std::lock_guard<std::mutex> lock(g_trimesh_mutex);
+    return dCollide(a, b, max, out, sizeof(dContactGeom));
+}
+
+// Between two poses: linear in position, normalized-linear in rotation (the shorter way round).
+Transform interpolate(const Transform& a, const Transform& b, double u) {
+    Quat qb = b.rotation;
+    if (a.rotation[0] * qb[0] + a.rotation[1] * qb[1] + a.rotation[2] * qb[2] + a.rotation[3] * qb[3] < 0)
+        qb = {-qb[0], -qb[1], -qb[2], -qb[3]};
+    Quat q;
+    for (int k = 0; k < 4; ++k) q[k] = a.rotation[k] + (qb[k] - a.rotation[k]) * u;
+    return {add(a.location, scale(sub(b.location, a.location), u)), quat_normalized(q)};
+}
+
 Transform sample_animation(const KinematicTrack& track, double time_s, const Transform& fallback) {
     if (track.times_s.empty()) return fallback;
     if (time_s <= track.times_s.front()) return track.transforms.front();
@@ -32,14 +49,7 @@ Transform sample_animation(const KinematicTrack& track, double time_s, const Tra
                                           track.times_s.begin());
     const size_t lo = hi - 1;
     const double u = (time_s - track.times_s[lo]) / (track.times_s[hi] - track.times_s[lo]);
-    const Transform& a = track.transforms[lo];
-    const Transform& b = track.transforms[hi];
-    Quat qb = b.rotation;
-    if (a.rotation[0] * qb[0] + a.rotation[1] * qb[1] + a.rotation[2] * qb[2] + a.rotation[3] * qb[3] < 0)
-        qb = {-qb[0], -qb[1], -qb[2], -qb[3]};
-    Quat q;
-    for (int k = 0; k < 4; ++k) q[k] = a.rotation[k] + (qb[k] - a.rotation[k]) * u;
-    return {add(a.location, scale(sub(b.location, a.location), u)), quat_normalized(q)};
+    return interpolate(track.transforms[lo], track.transforms[hi], u);
 }
 
 // World-frame angular velocity taking rotation q0 to q1 in dt.
@@ -247,13 +257,7 @@ private:
         if (!moving_a && !moving_b) return;
         if (world_->collision_disabled(oa.body, ob.body)) return;
         dContactGeom contacts[kMaxContactsPerPair];
-        int count;
-        if (oa.is_mesh || ob.is_mesh) {
-            std::lock_guard<std::mutex> lock(g_trimesh_mutex);
-            count = dCollide(ga, gb, kMaxContactsPerPair, contacts, sizeof(dContactGeom));
-        } else {
-            count = dCollide(ga, gb, kMaxContactsPerPair, contacts, sizeof(dContactGeom));
-        }
+        const int count = collide(ga, gb, oa.is_mesh || ob.is_mesh, kMaxContactsPerPair, contacts);
         if (count == 0) return;
         const BodyInitialState& ma = world_->initial_states()[oa.body];
         const BodyInitialState& mb = world_->initial_states()[ob.body];
@@ -455,14 +459,7 @@ private:
                 if (!((active_a && replayed_b) || (active_b && replayed_a))) continue;
                 if (world_->collision_disabled(oa.body, ob.body)) continue;
                 dContactGeom contact;
-                int count;
-                if (oa.is_mesh || ob.is_mesh) {
-                    std::lock_guard<std::mutex> lock(g_trimesh_mutex);
-                    count = dCollide(pair.first, pair.second, 1, &contact, sizeof(dContactGeom));
-                } else {
-                    count = dCollide(pair.first, pair.second, 1, &contact, sizeof(dContactGeom));
-                }
-                if (count == 0) continue;
+                if (collide(pair.first, pair.second, oa.is_mesh || ob.is_mesh, 1, &contact) == 0) continue;
                 activate(static_cast<uint32_t>(replayed_a ? oa.body : ob.body));
                 changed = true;
             }
@@ -486,16 +483,8 @@ private:
         const auto f = static_cast<uint32_t>(std::floor(frame));
         const double u = frame - f;
         const Transform a = replay_frame(i, f);
-        if (u <= 0) return a;
-        const Transform b = replay_frame(i, f + 1);
-        Quat qb = b.rotation;
-        if (dot4(a.rotation, qb) < 0) qb = {-qb[0], -qb[1], -qb[2], -qb[3]};
-        Quat q;
-        for (int k = 0; k < 4; ++k) q[k] = a.rotation[k] + (qb[k] - a.rotation[k]) * u;
-        return {add(a.location, scale(sub(b.location, a.location), u)), quat_normalized(q)};
+        return u <= 0 ? a : interpolate(a, replay_frame(i, f + 1), u);
     }
-
-    static double dot4(const Quat& a, const Quat& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]; }
 
     // Sets a body's centre of mass on the replayed path at t, moving towards where it is one step later.
     void place_on_replay(dBodyID body, size_t i, double t) {
