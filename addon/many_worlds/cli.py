@@ -214,6 +214,14 @@ def parse_boxes(args, library):
     return boxes
 
 
+def path_index(library):
+    """Every world of the library in a path index, for queries and rankings."""
+    scene = _native.Scene.from_json(library.header["scene_json"])
+    index = _native.PathIndex(_native.body_bounding_radii(scene))
+    index.add_library(library)
+    return index
+
+
 def evaluate_boxes(args, library):
     boxes = parse_boxes(args, library)
     if not boxes:
@@ -229,9 +237,7 @@ def evaluate_boxes(args, library):
                                                  time_window=b["time_window"], swept=b["swept"]))
         except ValueError as error:
             raise CliError(f"--box: {error}")
-    scene = _native.Scene.from_json(library.header["scene_json"])
-    index = _native.PathIndex(_native.body_bounding_radii(scene))
-    index.add_library(library)
+    index = path_index(library)
     return index, index.query(native_boxes)
 
 
@@ -266,9 +272,7 @@ def command_rank(args):
         ids, values = result["world_indices"][order], result["boxes_satisfied"][order].astype(float)
     else:
         if index is None:
-            scene = _native.Scene.from_json(library.header["scene_json"])
-            index = _native.PathIndex(_native.body_bounding_radii(scene))
-            index.add_library(library)
+            index = path_index(library)
         only = [int(w) for w in result["matching"]] if result is not None else None
         goals = [(1.0, 0.0, 0.0, 0.0)] * len(bodies) if args.metric == "orientation_to_goal_rad" else None
         ids, values = index.rank(args.metric, bodies, combine=args.combine, descending=args.desc, only=only,
