@@ -35,6 +35,19 @@ void parse_world_range(const std::string& text, EngineOptions& options) {
     options.world_count = end - first;
 }
 
+// "a,b,c" -> {"a", "b", "c"}; names may hold anything but commas.
+std::vector<std::string> parse_names(const std::string& flag, const std::string& list) {
+    std::vector<std::string> names;
+    size_t start = 0;
+    while (start <= list.size()) {
+        const size_t comma = std::min(list.find(',', start), list.size());
+        names.push_back(list.substr(start, comma - start));
+        if (names.back().empty()) throw UsageError(flag + ": empty name in '" + list + "'");
+        start = comma + 1;
+    }
+    return names;
+}
+
 }  // namespace
 
 const char* engine_usage() {
@@ -44,6 +57,8 @@ const char* engine_usage() {
            "                    [--position-error METRES] [--rotation-error DEGREES] [--progress]\n"
            "  mwb-engine refine --library LIB.mwb --world W --bodies I,J --time SECONDS [--count N]\n"
            "                    [--first-child K] [--threads T] [--progress]\n"
+           "  mwb-engine refine --library LIB.mwb --world W [--add NAME,... --scene SCENE.json] [--remove NAME,...]\n"
+           "                    [--count N] [--first-child K] [--threads T] [--progress]\n"
            "  mwb-engine info LIB.mwb [--json]\n"
            "  mwb-engine merge OUT.mwb LIB.mwb...\n"
            "  mwb-engine validate SCENE.json\n";
@@ -78,6 +93,8 @@ EngineOptions parse_engine_options(const std::vector<std::string>& args) {
         else if (flag == "--world") options.parent_world = parse_count(flag, value());
         else if (flag == "--time") options.branch_time_s = parse_number(flag, value());
         else if (flag == "--first-child") options.first_child = static_cast<int64_t>(parse_count(flag, value()));
+        else if (flag == "--add") options.add_bodies = parse_names(flag, value());
+        else if (flag == "--remove") options.remove_bodies = parse_names(flag, value());
         else if (flag == "--bodies") {
             const std::string list = value();
             size_t start = 0;
@@ -97,8 +114,16 @@ EngineOptions parse_engine_options(const std::vector<std::string>& args) {
             throw UsageError("codec error bounds must be positive");
     } else if (options.command == "refine") {
         if (options.output_path.empty()) throw UsageError("refine needs --library");
-        if (options.bodies.empty()) throw UsageError("refine needs --bodies");
-        if (options.branch_time_s < 0) throw UsageError("refine needs --time (seconds, >= 0)");
+        const bool changes_scene = !options.add_bodies.empty() || !options.remove_bodies.empty();
+        if (changes_scene) {
+            if (!options.bodies.empty() || options.branch_time_s >= 0)
+                throw UsageError("--add and --remove act from t = 0 on their own; refine the new worlds afterwards");
+            if (!options.add_bodies.empty() && options.scene_path.empty())
+                throw UsageError("--add needs --scene (the scene that defines the added bodies)");
+        } else {
+            if (options.bodies.empty()) throw UsageError("refine needs --bodies (or --add / --remove)");
+            if (options.branch_time_s < 0) throw UsageError("refine needs --time (seconds, >= 0)");
+        }
         if (options.world_count == 0) throw UsageError("--count must be at least 1");
     } else if (options.command == "info" || options.command == "validate") {
         if (positional.size() != 1) throw UsageError(options.command + " takes exactly one file");

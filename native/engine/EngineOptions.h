@@ -30,6 +30,8 @@ struct EngineOptions {
     std::vector<uint32_t> bodies;       ///< refine: scene body indices
     double branch_time_s = -1;          ///< refine: where the new worlds leave the parent
     int64_t first_child = -1;           ///< refine: index of the first new world (-1: after the last)
+    std::vector<std::string> add_bodies;     ///< refine: bodies of --scene to add to the world
+    std::vector<std::string> remove_bodies;  ///< refine: bodies to remove from the world
     bool progress = false;
     SimulationParameters parameters;
     CodecBounds bounds;

@@ -14,8 +14,11 @@
 #include "EngineOptions.h"
 #include "library/ByteIO.h"
 #include "library/LibraryReader.h"
+#include "library/LibraryFormat.h"
 #include "library/LibraryWriter.h"
+#include "library/SceneRevision.h"
 #include "sampler/Sampler.h"
+#include "scene/SceneAddition.h"
 #include "scene/SceneJson.h"
 #include "sim/WorldSimulator.h"
 
@@ -58,12 +61,55 @@ int run_sample(const EngineOptions& options) {
     return g_progress.cancel ? 130 : 0;
 }
 
+// Bodies a refine run adds to or removes from its world, and the library scene that has them.
+struct SceneChange {
+    Scene scene;
+    bool revised = false;  ///< the scene gained bodies: a scene revision must be stored
+    std::vector<uint32_t> added, removed;
+};
+
+SceneChange change_scene(const LibraryReader& reader, const EngineOptions& options) {
+    SceneChange change{scene_from_json(reader.scene_json())};
+    if (!options.add_bodies.empty()) {
+        const size_t bodies = change.scene.bodies.size(), constraints = change.scene.constraints.size();
+        change.added = append_bodies(change.scene, load_scene_file(options.scene_path), options.add_bodies);
+        change.revised = change.scene.bodies.size() != bodies || change.scene.constraints.size() != constraints;
+    }
+    for (const std::string& name : options.remove_bodies) {
+        const int index = change.scene.body_index(name);
+        if (index < 0) throw UsageError("--remove: no body '" + name + "' in " + options.output_path);
+        change.removed.push_back(static_cast<uint32_t>(index));
+    }
+    return change;
+}
+
+std::string describe_change(const EngineOptions& options, const SceneChange& change, uint64_t frame, double record_hz) {
+    if (change.added.empty() && change.removed.empty()) {
+        std::ostringstream at;
+        at << "at " << frame / record_hz << " s";
+        return at.str();
+    }
+    std::string text;
+    auto list = [](const std::vector<std::string>& names) {
+        std::string out;
+        for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+        return out;
+    };
+    if (!change.added.empty()) text += "adding " + list(options.add_bodies);
+    if (!change.removed.empty()) text += (text.empty() ? "" : " and ") + std::string("removing ") + list(options.remove_bodies);
+    return text;
+}
+
 // Refines one stored world: re-creates its exact lineage, then appends `count` children that
-// branch at the given time, each with its own perturbations.
+// branch at the given time, or that add or remove bodies from t = 0, each with its own
+// perturbations.
 int run_refine(const EngineOptions& options) {
     const LibraryReader reader(options.output_path);
     const RunHeader& header = reader.header();
-    CompiledScene compiled(scene_from_json(header.scene_json), header.parameters);
+    SceneChange change = change_scene(reader, options);
+    const size_t sampled_bodies = scene_from_json(header.scene_json).bodies.size();
+    const Scene scene = change.scene;
+    CompiledScene compiled(std::move(change.scene), header.parameters, sampled_bodies);
     const StoredWorld* parent = nullptr;
     uint64_t next_index = 0;
     for (const StoredWorld& w : reader.worlds()) {
@@ -77,17 +123,22 @@ int run_refine(const EngineOptions& options) {
     if (chain.back().frame_count != parent->frame_count || chain.back().contacts.size() != parent->contacts.size())
         throw UsageError("world " + std::to_string(parent->world_index) + " does not come out as stored: the library "
                          "was made by a different engine build");
-    const uint64_t frame = static_cast<uint64_t>(std::floor(options.branch_time_s * compiled.parameters().record_hz));
+    const bool changes_scene = !change.added.empty() || !change.removed.empty();
+    const uint64_t frame =
+        changes_scene ? 0 : static_cast<uint64_t>(std::floor(options.branch_time_s * compiled.parameters().record_hz));
     const uint64_t first = options.first_child >= 0 ? static_cast<uint64_t>(options.first_child) : next_index;
     std::vector<RefineStep> children;
     for (uint64_t k = 0; k < options.world_count; ++k)
-        children.push_back({frame * compiled.steps_per_frame(), first + k, options.bodies});
+        children.push_back({frame * compiled.steps_per_frame(), first + k, options.bodies, change.added, change.removed});
     try {
         check_refinement(compiled, chain, children.front());
     } catch (const std::invalid_argument& error) {
         throw UsageError(error.what());
     }
     LibraryWriter writer(options.output_path, header);
+    if (change.revised)
+        writer.append_record(kRecordTypeSceneRevision, kSceneRevisionRecordVersion,
+                             encode_scene_revision({reader.scene_revision() + 1, scene_to_json(scene)}));
     std::signal(SIGINT, request_cancel);
     std::signal(SIGTERM, request_cancel);
     uint64_t stored = 0;
@@ -102,15 +153,16 @@ int run_refine(const EngineOptions& options) {
                                                        }
                                                    },
                                                    &g_progress);
-    std::cout << "refined world " << parent->world_index << " at " << frame / compiled.parameters().record_hz
-              << " s into worlds " << first << ".." << first + options.world_count - 1 << ": " << stats.worlds_ok
-              << " stored, " << stats.worlds_rejected << " rejected in " << stats.wall_time_s << " s\n";
+    std::cout << "refined world " << parent->world_index << " "
+              << describe_change(options, change, frame, compiled.parameters().record_hz) << " into worlds " << first
+              << ".." << first + options.world_count - 1 << ": " << stats.worlds_ok << " stored, "
+              << stats.worlds_rejected << " rejected in " << stats.wall_time_s << " s\n";
     return g_progress.cancel ? 130 : 0;
 }
 
 int run_info(const EngineOptions& options) {
     const LibraryReader reader(options.inputs[0]);
-    const Scene scene = scene_from_json(reader.header().scene_json);
+    const Scene scene = scene_from_json(reader.scene_json());
     uint64_t motion_bytes = 0, body_frames = 0;
     for (const StoredWorld& w : reader.worlds()) {
         for (const StoredTrack& t : w.tracks) motion_bytes += t.position.size() + t.rotation.size();
@@ -129,6 +181,7 @@ int run_info(const EngineOptions& options) {
                      {"scene_hash", scene_hash(reader.header())},
                      {"run_hash", run_hash(reader.header())},
                      {"base_seed", reader.header().base_seed},
+                     {"scene_revision", reader.scene_revision()},
                      {"warnings", reader.warnings()}};
     if (options.json) {
         std::cout << j.dump(2) << "\n";

@@ -2,6 +2,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
+#include <limits>
 #include <map>
 
 #include "codec/CodecError.h"
@@ -33,6 +35,16 @@ py::dict header_dict(const RunHeader& h) {
     return d;
 }
 
+// Per scene body (the library's scene now): a track's value, or `absent` for bodies the world
+// does not have.
+template <typename T, typename F>
+std::vector<T> per_body(const PyLibrary& l, const StoredWorld& world, T absent, F value) {
+    std::vector<T> out(std::max(l.reader().scene_body_count(), world.tracks.size()), absent);
+    for (size_t t = 0; t < world.tracks.size(); ++t)
+        if (world.tracks[t].present) out[t] = value(world.tracks[t], t);
+    return out;
+}
+
 }  // namespace
 
 void bind_library(py::module_& m) {
@@ -44,7 +56,18 @@ void bind_library(py::module_& m) {
              py::call_guard<py::gil_scoped_release>(),
              "Open a library; every world is decoded once on load to derive its polyline at polyline_hz.")
         .def_property_readonly("path", [](const PyLibrary& l) { return l.reader().path(); })
-        .def_property_readonly("header", [](const PyLibrary& l) { return header_dict(l.reader().header()); })
+        .def_property_readonly("header", [](const PyLibrary& l) { return header_dict(l.reader().header()); },
+                               "the run as sampled; header['scene_json'] is the scene the worlds were sampled in")
+        .def_property_readonly("scene_json", [](const PyLibrary& l) { return l.reader().scene_json(); },
+                               "the library's scene now: the sampled scene plus bodies added to worlds since, "
+                               "appended (a body's index never changes); grows on poll()")
+        .def_property_readonly("body_count", [](const PyLibrary& l) { return l.reader().scene_body_count(); },
+                               "bodies in scene_json; every per-body array has this many rows")
+        .def("present",
+             [](const PyLibrary& l, uint64_t w) {
+                 return per_body<bool>(l, l.world(w), false, [](const StoredTrack&, size_t) { return true; });
+             },
+             py::arg("world"), "list of bool, per body: whether the world has it (bodies can be added and removed)")
         .def_property_readonly("warnings", [](const PyLibrary& l) { return l.reader().warnings(); })
         .def_property_readonly("file_bytes", [](const PyLibrary& l) { return l.reader().file_size(); })
         .def_property_readonly("world_indices",
@@ -70,22 +93,24 @@ void bind_library(py::module_& m) {
                  std::vector<double> data;
                  {
                      py::gil_scoped_release release;
-                     data = decode_world_positions(world);
+                     data = decode_world_positions(world, l.reader().scene_body_count());
                  }
-                 return as_array(std::move(data), {static_cast<py::ssize_t>(world.tracks.size()), world.frame_count, 3});
+                 const auto rows = static_cast<py::ssize_t>(std::max(l.reader().scene_body_count(), world.tracks.size()));
+                 return as_array(std::move(data), {rows, world.frame_count, 3});
              },
-             py::arg("world"), "float64 (bodies, frames, 3): decoded object origins, metres")
+             py::arg("world"), "float64 (bodies, frames, 3): decoded object origins, metres; NaN for absent bodies")
         .def("orientations",
              [](const PyLibrary& l, uint64_t w) {
                  const StoredWorld& world = l.world(w);
                  std::vector<double> data;
                  {
                      py::gil_scoped_release release;
-                     data = decode_world_orientations(world);
+                     data = decode_world_orientations(world, l.reader().scene_body_count());
                  }
-                 return as_array(std::move(data), {static_cast<py::ssize_t>(world.tracks.size()), world.frame_count, 4});
+                 const auto rows = static_cast<py::ssize_t>(std::max(l.reader().scene_body_count(), world.tracks.size()));
+                 return as_array(std::move(data), {rows, world.frame_count, 4});
              },
-             py::arg("world"), "float64 (bodies, frames, 4): decoded unit quaternions (w, x, y, z)")
+             py::arg("world"), "float64 (bodies, frames, 4): decoded unit quaternions (w, x, y, z); NaN for absent bodies")
         .def("pose",
              [](const PyLibrary& l, uint64_t w, size_t body, uint32_t frame) {
                  const Transform t = decode_pose(l.world(w), body, frame);
@@ -96,21 +121,22 @@ void bind_library(py::module_& m) {
         .def("polyline",
              [](const PyLibrary& l, uint64_t w) {
                  const StoredWorld& world = l.world(w);
-                 py::array_t<float> out({static_cast<py::ssize_t>(world.tracks.size()),
-                                         static_cast<py::ssize_t>(world.polyline_points), py::ssize_t{3}});
+                 const size_t bodies = std::max(l.reader().scene_body_count(), world.tracks.size());
+                 py::array_t<float> out({static_cast<py::ssize_t>(bodies), static_cast<py::ssize_t>(world.polyline_points),
+                                         py::ssize_t{3}});
+                 std::fill_n(out.mutable_data(), out.size(), std::numeric_limits<float>::quiet_NaN());
                  std::copy(world.polyline.begin(), world.polyline.end(), out.mutable_data());
                  return out;
              },
              py::arg("world"),
-             "float32 (bodies, points, 3): the path down-sampled on load (every polyline_stride-th frame and the last)")
+             "float32 (bodies, points, 3): the path down-sampled on load (every polyline_stride-th frame and the\n"
+             "last); NaN for absent bodies")
         .def("polyline_stride", [](const PyLibrary& l, uint64_t w) { return l.world(w).polyline_stride; }, py::arg("world"))
         .def("rest_times",
              [](const PyLibrary& l, uint64_t w) {
-                 std::vector<double> out;
-                 for (const StoredTrack& t : l.world(w).tracks) out.push_back(t.rest_time_s);
-                 return out;
+                 return per_body<double>(l, l.world(w), 0.0, [](const StoredTrack& t, size_t) { return t.rest_time_s; });
              },
-             py::arg("world"))
+             py::arg("world"), "per body: start of its final rest, seconds (0 for absent bodies)")
         .def("contacts",
              [](const PyLibrary& l, uint64_t w) {
                  py::list out;
@@ -121,10 +147,12 @@ void bind_library(py::module_& m) {
         .def("metrics",
              [](const PyLibrary& l, uint64_t w) {
                  py::dict out;
-                 for (const MetricValues& m : l.world(w).metrics) out[py::str(m.name)] = m.per_body;
+                 const StoredWorld& world = l.world(w);
+                 for (const MetricValues& m : world.metrics)
+                     out[py::str(m.name)] = per_body<double>(l, world, 0.0, [&](const StoredTrack&, size_t t) { return m.per_body[t]; });
                  return out;
              },
-             py::arg("world"), "metric name -> per-body values")
+             py::arg("world"), "metric name -> per-body values (0 for absent bodies)")
         .def("world_info", [](const PyLibrary& l, uint64_t w) {
             const StoredWorld& world = l.world(w);
             py::dict d;
@@ -141,11 +169,11 @@ void bind_library(py::module_& m) {
             py::list lineage;
             for (const RefineStep& step : world.lineage)
                 lineage.append(py::make_tuple(static_cast<double>(step.branch_step) / world.step_hz, step.world_index,
-                                              step.bodies));
+                                              step.bodies, step.added, step.removed));
             d["lineage"] = lineage;
-            std::vector<bool> changed;
-            for (const StoredTrack& t : world.tracks) changed.push_back(world.parent_world >= 0 && !t.inherited);
-            d["changed_bodies"] = changed;
+            d["changed_bodies"] = per_body<bool>(l, world, false, [&](const StoredTrack& t, size_t) {
+                return world.parent_world >= 0 && !t.inherited;
+            });
             size_t bytes = 0;
             for (const StoredTrack& t : world.tracks) bytes += t.position.size() + t.rotation.size();
             d["motion_bytes"] = bytes;

@@ -57,7 +57,13 @@ std::vector<IndexedWorldInput> new_worlds(const PathIndex& index, const PyLibrar
         in.last_frame = w.frame_count - 1;
         in.record_hz = w.record_hz;
         const size_t per_path = size_t{w.polyline_points} * 3;
+        // Bodies the world does not have get no path; the index then never finds them in a box.
         for (size_t t = 0; t < w.tracks.size(); ++t) {
+            if (!w.tracks[t].present) {
+                in.polylines.emplace_back();
+                in.final_orientations.push_back({1, 0, 0, 0});
+                continue;
+            }
             in.polylines.emplace_back(w.polyline.begin() + t * per_path, w.polyline.begin() + (t + 1) * per_path);
             in.final_orientations.push_back(decode_pose(w, t, w.frame_count - 1).rotation);
         }

@@ -17,6 +17,7 @@ constexpr uint32_t kLibraryFormatVersion = 1;
 constexpr uint32_t kRecordMagic = 0x4352574Du;  // "MWRC"
 constexpr uint32_t kRecordTypeWorld = 1;
 constexpr uint32_t kRecordTypeRejection = 2;
+constexpr uint32_t kRecordTypeSceneRevision = 3;
 constexpr uint32_t kRecordHeaderBytes = 20;
 /// Larger payloads are corruption; guards allocations driven by a damaged size field.
 constexpr uint32_t kMaxRecordPayloadBytes = 1u << 30;

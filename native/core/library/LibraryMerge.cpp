@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 
 #include "library/ByteIO.h"
+#include "library/LibraryFormat.h"
 #include "library/LibraryReader.h"
 #include "library/LibraryWriter.h"
 
@@ -33,10 +34,27 @@ std::vector<std::string> merge_libraries(const std::vector<std::string>& inputs,
             throw LibraryError("merge: " + path + " is from another run than " + inputs.front() +
                                " (scene, parameters, codec bounds or base seed differ)");
     }
+    // Scene revisions come first, as in every input; inputs must agree on them (one may have fewer).
+    std::vector<const RawRecord*> revisions;
+    const std::string* revisions_from = nullptr;
+    for (const LibraryReader& reader : readers) {
+        std::vector<const RawRecord*> own;
+        for (const RawRecord& record : reader.raw_records())
+            if (record.type == kRecordTypeSceneRevision) own.push_back(&record);
+        const size_t common = std::min(own.size(), revisions.size());
+        for (size_t k = 0; k < common; ++k)
+            if (own[k]->payload != revisions[k]->payload)
+                throw LibraryError("merge: " + reader.path() + " and " + *revisions_from + " revised the scene differently");
+        if (own.size() > revisions.size()) {
+            revisions = own;
+            revisions_from = &reader.path();
+        }
+    }
     std::map<uint64_t, std::pair<const RawRecord*, const std::string*>> by_index;
     std::vector<std::string> collisions;
     for (const LibraryReader& reader : readers) {
         for (const RawRecord& record : reader.raw_records()) {
+            if (record.type == kRecordTypeSceneRevision) continue;
             const uint64_t index = world_index_of(record);
             auto [it, inserted] = by_index.emplace(index, std::make_pair(&record, &reader.path()));
             if (!inserted)
@@ -50,6 +68,7 @@ std::vector<std::string> merge_libraries(const std::vector<std::string>& inputs,
         throw LibraryError(message);
     }
     LibraryWriter writer(output, readers.front().header());
+    for (const RawRecord* record : revisions) writer.append_record(record->type, record->version, record->payload);
     for (const auto& [index, entry] : by_index) writer.append_record(entry.first->type, entry.first->version, entry.first->payload);
     return warnings;
 }

@@ -1,10 +1,15 @@
 #include "library/LibraryReader.h"
 
+#include <algorithm>
 #include <cstring>
+
+#include <nlohmann/json.hpp>
 
 #include "library/ByteIO.h"
 #include "library/FileBytes.h"
 #include "library/LibraryFormat.h"
+#include "library/SceneRevision.h"
+#include "scene/SceneJson.h"
 #include "library/WorldDecoding.h"
 #include "codec/CodecError.h"
 
@@ -68,6 +73,13 @@ void LibraryReader::read_header(const std::vector<uint8_t>& bytes) {
     const uint32_t crc = u32_at(text + size);
     if (crc32_of(text, size) != crc) throw LibraryError(path_ + ", byte 16: run header checksum mismatch");
     header_ = run_header_from_json(std::string(reinterpret_cast<const char*>(text), size), path_);
+    scene_json_ = header_.scene_json;
+    try {
+        const nlohmann::json scene = nlohmann::json::parse(scene_json_);
+        for (const auto& body : scene.at("bodies")) body_names_.push_back(body.at("name").get<std::string>());
+    } catch (const nlohmann::json::exception& error) {
+        throw LibraryError(path_ + ", byte 16: the run header's scene has no readable body list (" + error.what() + ")");
+    }
     offset_ = in.offset() + size + 4;
 }
 
@@ -105,10 +117,16 @@ bool LibraryReader::accept_record(RawRecord&& record) {
         if (record.type == kRecordTypeWorld && record.version >= kOldestWorldRecordVersion &&
             record.version <= kWorldRecordVersion) {
             StoredWorld world = decode_world_record(record.payload.data(), record.payload.size(), record.version, where);
-            if (world.parent_world >= 0) inherit_from_parent(world, where);
+            if (world.scene_body_count > body_names_.size())
+                throw LibraryError(where + ": world " + std::to_string(world.world_index) + " has " +
+                                   std::to_string(world.scene_body_count) + " bodies, the library's scene " +
+                                   std::to_string(body_names_.size()) + " (a scene revision is missing)");
+            inherit_from_parent(world, where);
             if (options_.polyline_hz > 0) derive_polyline(world, options_.polyline_hz);
             positions_[world.world_index] = worlds_.size();
             worlds_.push_back(std::move(world));
+        } else if (record.type == kRecordTypeSceneRevision && record.version == kSceneRevisionRecordVersion) {
+            accept_scene_revision(record, where);
         } else if (record.type == kRecordTypeRejection && record.version == kRejectionRecordVersion) {
             rejections_.push_back(decode_rejection_record(record.payload.data(), record.payload.size(), where));
         } else {
@@ -122,16 +140,40 @@ bool LibraryReader::accept_record(RawRecord&& record) {
     } catch (const CodecError& error) {
         warnings_.push_back(where + ": " + error.what() + "; skipped");
         return false;
+    } catch (const SceneError& error) {
+        warnings_.push_back(where + ": scene revision: " + error.what() + "; skipped");
+        return false;
     }
     if (options_.keep_raw_records) raw_.push_back(std::move(record));
     return true;
 }
 
+void LibraryReader::accept_scene_revision(const RawRecord& record, const std::string& where) {
+    const SceneRevision revision = decode_scene_revision(record.payload.data(), record.payload.size(), where);
+    if (revision.revision != scene_revision_ + 1)
+        throw LibraryError(where + ": scene revision " + std::to_string(revision.revision) + " follows revision " +
+                           std::to_string(scene_revision_));
+    std::vector<std::string> names = scene_body_names(revision.scene_json);
+    if (names.size() < body_names_.size() || !std::equal(body_names_.begin(), body_names_.end(), names.begin()))
+        throw LibraryError(where + ": scene revision " + std::to_string(revision.revision) +
+                           " does not keep the earlier bodies in their order");
+    scene_json_ = revision.scene_json;
+    body_names_ = std::move(names);
+    scene_revision_ = revision.revision;
+}
+
+// Completes a world's tracks to one per scene body: its own, absent ones (empty), and for a
+// refined world the unchanged ones of its parent, read earlier.
 void LibraryReader::inherit_from_parent(StoredWorld& world, const std::string& where) const {
-    const auto it = positions_.find(static_cast<uint64_t>(world.parent_world));
-    if (it == positions_.end())
-        throw LibraryError(where + ": its parent world " + std::to_string(world.parent_world) + " is not in this file");
-    const StoredWorld& parent = worlds_[it->second];
+    const StoredWorld* parent = nullptr;
+    if (world.parent_world >= 0) {
+        const auto it = positions_.find(static_cast<uint64_t>(world.parent_world));
+        if (it == positions_.end())
+            throw LibraryError(where + ": its parent world " + std::to_string(world.parent_world) + " is not in this file");
+        parent = &worlds_[it->second];
+    } else if (world.absent.empty()) {
+        return;
+    }
     std::vector<StoredTrack> tracks;
     std::vector<MetricValues> metrics = world.metrics;
     for (MetricValues& m : metrics) m.per_body.clear();
@@ -143,12 +185,22 @@ void LibraryReader::inherit_from_parent(StoredWorld& world, const std::string& w
             ++own;
             continue;
         }
-        if (body >= parent.tracks.size()) throw LibraryError(where + ": its parent lacks body " + std::to_string(body));
-        StoredTrack inherited = parent.tracks[body];
+        if (std::find(world.absent.begin(), world.absent.end(), body) != world.absent.end()) {
+            StoredTrack absent;
+            absent.body = body;
+            absent.present = false;
+            tracks.push_back(std::move(absent));
+            for (MetricValues& m : metrics) m.per_body.push_back(0.0);
+            continue;
+        }
+        if (!parent) throw LibraryError(where + ": no track for body " + std::to_string(body));
+        if (body >= parent->tracks.size() || !parent->tracks[body].present)
+            throw LibraryError(where + ": its parent lacks body " + std::to_string(body));
+        StoredTrack inherited = parent->tracks[body];
         inherited.inherited = true;
         tracks.push_back(std::move(inherited));
         for (size_t m = 0; m < metrics.size(); ++m) {
-            const auto& parent_metrics = parent.metrics;
+            const auto& parent_metrics = parent->metrics;
             const bool found = m < parent_metrics.size() && parent_metrics[m].name == metrics[m].name;
             metrics[m].per_body.push_back(found ? parent_metrics[m].per_body[body] : 0.0);
         }

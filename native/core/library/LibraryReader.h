@@ -39,6 +39,12 @@ public:
 
     const std::string& path() const { return path_; }
     const RunHeader& header() const { return header_; }
+    /// The library's scene now: the header's, or the latest scene revision (bodies added later
+    /// are appended, so body indices hold across revisions).
+    const std::string& scene_json() const { return scene_json_; }
+    size_t scene_body_count() const { return body_names_.size(); }
+    /// 0 while the scene is the header's.
+    uint32_t scene_revision() const { return scene_revision_; }
     const std::vector<StoredWorld>& worlds() const { return worlds_; }
     const std::vector<StoredRejection>& rejections() const { return rejections_; }
     /// Records as read, when constructed with keep_raw_records (for merging).
@@ -59,10 +65,14 @@ private:
     bool accept_record(RawRecord&& record);
     /// A refined world stores only changed bodies; the rest come from its parent, read earlier.
     void inherit_from_parent(StoredWorld& world, const std::string& where) const;
+    void accept_scene_revision(const RawRecord& record, const std::string& where);
 
     std::string path_;
     ReaderOptions options_;
     RunHeader header_;
+    std::string scene_json_;
+    std::vector<std::string> body_names_;
+    uint32_t scene_revision_ = 0;
     std::vector<StoredWorld> worlds_;
     std::map<uint64_t, size_t> positions_;  ///< world index -> position in worlds_
     std::vector<StoredRejection> rejections_;

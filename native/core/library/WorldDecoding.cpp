@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "codec/CodecError.h"
 #include "codec/PositionDecoder.h"
@@ -34,21 +35,25 @@ void decode_track(const std::vector<uint8_t>& bytes, const StoredTrack& track, u
 
 }  // namespace
 
-std::vector<double> decode_world_positions(const StoredWorld& world) {
+std::vector<double> decode_world_positions(const StoredWorld& world, size_t body_count) {
+    body_count = std::max(body_count, world.tracks.size());
     const size_t frames = world.frame_count;
-    std::vector<double> out(world.tracks.size() * frames * 3);
+    std::vector<double> out(body_count * frames * 3, std::numeric_limits<double>::quiet_NaN());
     for (size_t t = 0; t < world.tracks.size(); ++t)
-        decode_track<PositionTrackDecoder>(world.tracks[t].position, world.tracks[t], world.frame_count, 3,
-                                           &out[t * frames * 3]);
+        if (world.tracks[t].present)
+            decode_track<PositionTrackDecoder>(world.tracks[t].position, world.tracks[t], world.frame_count, 3,
+                                               &out[t * frames * 3]);
     return out;
 }
 
-std::vector<double> decode_world_orientations(const StoredWorld& world) {
+std::vector<double> decode_world_orientations(const StoredWorld& world, size_t body_count) {
+    body_count = std::max(body_count, world.tracks.size());
     const size_t frames = world.frame_count;
-    std::vector<double> out(world.tracks.size() * frames * 4);
+    std::vector<double> out(body_count * frames * 4, std::numeric_limits<double>::quiet_NaN());
     for (size_t t = 0; t < world.tracks.size(); ++t)
-        decode_track<RotationTrackDecoder>(world.tracks[t].rotation, world.tracks[t], world.frame_count, 4,
-                                           &out[t * frames * 4]);
+        if (world.tracks[t].present)
+            decode_track<RotationTrackDecoder>(world.tracks[t].rotation, world.tracks[t], world.frame_count, 4,
+                                               &out[t * frames * 4]);
     return out;
 }
 
@@ -71,6 +76,7 @@ void derive_polyline(StoredWorld& world, double rate_hz) {
 
 Transform decode_pose(const StoredWorld& world, size_t track, uint32_t frame) {
     const StoredTrack& t = world.tracks.at(track);
+    if (!t.present) throw CodecError("body " + std::to_string(t.body) + " is not in world " + std::to_string(world.world_index));
     if (frame >= world.frame_count)
         throw CodecError("frame " + std::to_string(frame) + " beyond the world's " + std::to_string(world.frame_count));
     const PositionTrackDecoder position(t.position.data(), t.position.size());

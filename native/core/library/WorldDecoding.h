@@ -8,14 +8,15 @@
 
 namespace mwb {
 
-/// (tracks, frames, 3) object origins, metres.
-std::vector<double> decode_world_positions(const StoredWorld& world);
-/// (tracks, frames, 4) unit quaternions (w, x, y, z).
-std::vector<double> decode_world_orientations(const StoredWorld& world);
+/// (bodies, frames, 3) object origins, metres; bodies = max(body_count, tracks). Bodies the world
+/// does not have (absent tracks, or beyond its tracks when the scene grew later) are NaN.
+std::vector<double> decode_world_positions(const StoredWorld& world, size_t body_count = 0);
+/// (bodies, frames, 4) unit quaternions (w, x, y, z), NaN for bodies the world does not have.
+std::vector<double> decode_world_orientations(const StoredWorld& world, size_t body_count = 0);
 /// Fills world.polyline with every track sampled at about `rate_hz` (a whole divisor of the
-/// record rate; the last frame is always included).
+/// record rate; the last frame is always included); NaN points for absent bodies.
 void derive_polyline(StoredWorld& world, double rate_hz);
-/// One track at one frame (frame counted from the world's first_frame).
+/// One track at one frame (frame counted from the world's first_frame); CodecError if absent.
 Transform decode_pose(const StoredWorld& world, size_t track, uint32_t frame);
 
 }  // namespace mwb

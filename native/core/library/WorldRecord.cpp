@@ -1,5 +1,6 @@
 #include "library/WorldRecord.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "library/ByteIO.h"
@@ -13,6 +14,14 @@ constexpr size_t kContactBytes = 8 + 4 + 4 + 8;
 std::vector<uint8_t> copy_blob(ByteReader& in) {
     const auto [data, size] = in.get_blob();
     return std::vector<uint8_t>(data, data + size);
+}
+
+void read_body_list(ByteReader& in, std::vector<uint32_t>& bodies, uint32_t scene_body_count, const char* what) {
+    bodies.resize(in.get_count(4));
+    for (uint32_t& b : bodies) {
+        b = in.get<uint32_t>();
+        if (b >= scene_body_count) in.fail(std::string(what) + " body " + std::to_string(b) + " beyond the scene");
+    }
 }
 
 }  // namespace
@@ -67,13 +76,19 @@ StoredWorld decode_world_record(const uint8_t* data, size_t size, uint32_t versi
         for (RefineStep& step : w.lineage) {
             step.branch_step = in.get<uint64_t>();
             step.world_index = in.get<uint64_t>();
-            step.bodies.resize(in.get_count(4));
-            for (uint32_t& b : step.bodies) {
-                b = in.get<uint32_t>();
-                if (b >= w.scene_body_count) in.fail("refined body " + std::to_string(b) + " beyond the scene");
+            read_body_list(in, step.bodies, w.scene_body_count, "refined");
+            if (version >= 3) {
+                read_body_list(in, step.added, w.scene_body_count, "added");
+                read_body_list(in, step.removed, w.scene_body_count, "removed");
             }
         }
         if (!w.lineage.empty() && w.lineage.back().world_index != w.world_index) in.fail("lineage ends at another world");
+    }
+    if (version >= 3) {
+        read_body_list(in, w.absent, w.scene_body_count, "absent");
+        for (const StoredTrack& t : w.tracks)
+            if (std::find(w.absent.begin(), w.absent.end(), t.body) != w.absent.end())
+                in.fail("absent body " + std::to_string(t.body) + " has a track");
     }
     if (in.remaining() != 0) in.fail(std::to_string(in.remaining()) + " unexpected trailing bytes");
     return w;

@@ -14,7 +14,8 @@ namespace mwb {
 
 /// Record payload layout versions for worlds; a value never changes meaning.
 /// 1: the original layout. 2: adds the refinement lineage (root world, branch steps, bodies).
-constexpr uint32_t kWorldRecordVersion = 2;
+/// 3: lineage steps add and remove bodies; the world lists the scene bodies it does not have.
+constexpr uint32_t kWorldRecordVersion = 3;
 constexpr uint32_t kOldestWorldRecordVersion = 1;
 constexpr uint32_t kRejectionRecordVersion = 1;
 
@@ -27,6 +28,9 @@ struct StoredTrack {
     /// Filled in on load from the parent world (a refined world stores only what changed); may
     /// hold fewer or more frames than the world: decoding holds or cuts at the world's length.
     bool inherited = false;
+    /// False for a body this world does not have (removed, or added only to other worlds): no
+    /// motion, metrics 0; drawing, queries and baking skip it.
+    bool present = true;
 };
 
 struct StoredWorld {
@@ -47,6 +51,7 @@ struct StoredWorld {
     std::vector<MetricValues> metrics;  ///< per_body aligned with tracks
     uint64_t root_world = 0;            ///< refined worlds: the sampled world they descend from
     std::vector<RefineStep> lineage;    ///< refined worlds: every refinement from the root, this one last
+    std::vector<uint32_t> absent;       ///< scene bodies below scene_body_count this world does not have
     /// Derived on load, not stored: each track's origin path down-sampled for drawing and
     /// queries, (tracks, polyline_points, 3) float32; every polyline_stride-th frame plus the last.
     std::vector<float> polyline;

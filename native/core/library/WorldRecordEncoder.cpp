@@ -6,12 +6,22 @@
 #include "library/CheckpointBlock.h"
 
 namespace mwb {
+namespace {
+
+void put_body_list(ByteWriter& out, const std::vector<uint32_t>& bodies) {
+    out.put(static_cast<uint32_t>(bodies.size()));
+    for (uint32_t b : bodies) out.put(b);
+}
+
+}  // namespace
 
 std::vector<uint8_t> encode_world_record(const WorldResult& world, const CodecBounds& bounds, const Vec3& gravity) {
     // A refined world stores only the bodies that moved differently from its parent.
-    std::vector<uint32_t> stored;
-    for (uint32_t b = 0; b < world.body_count; ++b)
-        if (world.lineage.empty() || (b < world.changed.size() && world.changed[b])) stored.push_back(b);
+    std::vector<uint32_t> stored, absent;
+    for (uint32_t b = 0; b < world.body_count; ++b) {
+        if (b < world.present.size() && !world.present[b]) absent.push_back(b);
+        else if (world.lineage.empty() || (b < world.changed.size() && world.changed[b])) stored.push_back(b);
+    }
     const int64_t parent = world.lineage.empty() ? -1
                            : world.lineage.size() == 1 ? static_cast<int64_t>(world.root_world)
                                                        : static_cast<int64_t>(world.lineage[world.lineage.size() - 2].world_index);
@@ -58,9 +68,11 @@ std::vector<uint8_t> encode_world_record(const WorldResult& world, const CodecBo
     for (const RefineStep& step : world.lineage) {
         out.put(step.branch_step);
         out.put(step.world_index);
-        out.put(static_cast<uint32_t>(step.bodies.size()));
-        for (uint32_t b : step.bodies) out.put(b);
+        put_body_list(out, step.bodies);
+        put_body_list(out, step.added);
+        put_body_list(out, step.removed);
     }
+    put_body_list(out, absent);
     return std::move(out.bytes());
 }
 

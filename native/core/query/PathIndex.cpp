@@ -114,7 +114,9 @@ std::vector<const PathIndex::World*> PathIndex::snapshot() const {
 bool PathIndex::world_satisfies(const World& world, const QueryBox& box, bool brute_force) const {
     bool entered = false;
     for (uint32_t body : box.bodies) {
-        if (body >= world.paths.size()) throw std::out_of_range("query box names body " + std::to_string(body));
+        if (body >= body_radii_m_.size()) throw std::out_of_range("query box names body " + std::to_string(body));
+        // A body the world does not have never enters a box.
+        if (body >= world.paths.size() || world.paths[body].point_count() == 0) continue;
         const double radius = box.swept ? body_radii_m_[body] : 0.0;
         if (!brute_force && sphere_outside(box.frustum, world.root_spheres[body], radius)) continue;
         const PathTree& path = world.paths[body];
@@ -165,7 +167,9 @@ std::vector<std::pair<uint64_t, double>> PathIndex::rank(const std::string& metr
         }
         double combined = combine == Combine::Sum ? 0.0 : -std::numeric_limits<double>::infinity();
         for (size_t k = 0; k < bodies.size(); ++k) {
-            if (bodies[k] >= world->paths.size()) throw std::out_of_range("ranking names body " + std::to_string(bodies[k]));
+            if (bodies[k] >= body_radii_m_.size()) throw std::out_of_range("ranking names body " + std::to_string(bodies[k]));
+            // Bodies the world does not have add nothing.
+            if (bodies[k] >= world->paths.size() || world->paths[bodies[k]].point_count() == 0) continue;
             const double v = to_goal ? quat_angle_between(world->final_orientations[bodies[k]], (*goals)[k])
                                      : (*values)[bodies[k]];
             combined = combine == Combine::Sum ? combined + v : std::max(combined, v);
@@ -184,7 +188,9 @@ double PathIndex::first_time_inside(uint64_t world_index, const std::vector<uint
         if (world->world_index != world_index) continue;
         double first = -1;
         for (uint32_t body : bodies) {
-            const double t = world->paths.at(body).first_time_inside(frustum);
+            if (body >= body_radii_m_.size()) throw std::out_of_range("body " + std::to_string(body) + " is not in the scene");
+            if (body >= world->paths.size()) continue;
+            const double t = world->paths[body].first_time_inside(frustum);
             if (t >= 0 && (first < 0 || t < first)) first = t;
         }
         return first;

@@ -155,10 +155,8 @@ CompiledBody compile_body(const Body& body) {
     }
     const double margin = body.use_margin ? body.collision_margin_m : 0.0;
     compile_shape(body.shape, Transform{}, margin, 0.0, out.body_frame_offset_m, out.parts, out.has_mesh);
-    if (out.dynamic) {
-        bool ghost_mesh = false;
-        compile_shape(body.shape, Transform{}, margin, kGhostMargin_m, out.body_frame_offset_m, out.ghost_parts, ghost_mesh);
-    }
+    bool ghost_mesh = false;
+    compile_shape(body.shape, Transform{}, margin, kGhostMargin_m, out.body_frame_offset_m, out.ghost_parts, ghost_mesh);
     for (const CollisionPart& part : out.parts)
         out.bounding_radius_m = std::max(out.bounding_radius_m, part_bounding_radius(part));
     return out;
@@ -185,8 +183,9 @@ std::vector<std::string> validate_parameters(const SimulationParameters& p) {
 
 }  // namespace
 
-CompiledScene::CompiledScene(Scene scene, const SimulationParameters& parameters)
+CompiledScene::CompiledScene(Scene scene, const SimulationParameters& parameters, size_t sampled_body_count)
     : scene_(std::move(scene)), parameters_(parameters) {
+    sampled_body_count_ = std::min(sampled_body_count, scene_.bodies.size());
     std::vector<std::string> problems = validate_scene(scene_);
     for (std::string& p : validate_parameters(parameters_)) problems.push_back(std::move(p));
     if (!problems.empty()) {

@@ -3,6 +3,7 @@
 // collision parts with hulls computed, mass properties and stepping rates derived. Read-only and
 // shared by all worlds of a run on all threads.
 #include <cstdint>
+#include <cstddef>
 #include <vector>
 
 #include "scene/Scene.h"
@@ -35,19 +36,23 @@ struct CompiledBody {
     std::array<double, 9> inertia{};    ///< about the centre of mass, object axes, for mass_kg
     double bounding_radius_m = 0;       ///< of all parts about the body frame origin
     std::vector<CollisionPart> parts;
-    /// Dynamic bodies: the same parts grown by 1 cm, for refinement ghosts.
+    /// The same parts grown by 1 cm, for refinement ghosts.
     std::vector<CollisionPart> ghost_parts;
     bool has_mesh = false;
 };
 
 class CompiledScene {
 public:
-    /// Validates and prepares `scene`. Throws SceneError naming every problem.
-    CompiledScene(Scene scene, const SimulationParameters& parameters);
+    /// Validates and prepares `scene`. Throws SceneError naming every problem. Bodies from
+    /// `sampled_body_count` on were added after sampling: they exist only in worlds whose lineage
+    /// adds them (default: every body was sampled).
+    CompiledScene(Scene scene, const SimulationParameters& parameters, size_t sampled_body_count = SIZE_MAX);
 
     const Scene& scene() const { return scene_; }
     const SimulationParameters& parameters() const { return parameters_; }
     const std::vector<CompiledBody>& bodies() const { return bodies_; }
+    /// Bodies every sampled world has: scene bodies [0, sampled_body_count()).
+    size_t sampled_body_count() const { return sampled_body_count_; }
 
     /// Simulation steps per second of animation time (a multiple of record_hz).
     double step_hz() const { return step_hz_; }
@@ -67,6 +72,7 @@ private:
     uint64_t total_steps_ = 0;
     uint64_t steps_per_checkpoint_ = 120;
     double duration_s_ = 0;
+    size_t sampled_body_count_ = 0;
 };
 
 }  // namespace mwb

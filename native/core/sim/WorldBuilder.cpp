@@ -72,8 +72,9 @@ std::vector<BodyInitialState> draw_initial_states(const Scene& scene, PortableRa
     return states;
 }
 
-OdeWorld::OdeWorld(const CompiledScene& compiled, const std::vector<BodyInitialState>& initial)
-    : compiled_(compiled), initial_(initial) {
+OdeWorld::OdeWorld(const CompiledScene& compiled, const std::vector<BodyInitialState>& initial,
+                   const std::vector<uint8_t>& present)
+    : compiled_(compiled), initial_(initial), present_(present) {
     prepare_ode_thread();
     world_ = dWorldCreate();
     threading_ = dThreadingAllocateSelfThreadedImplementation();
@@ -107,6 +108,7 @@ void OdeWorld::create_bodies() {
     for (size_t i = 0; i < compiled_bodies.size(); ++i) {
         const CompiledBody& cb = compiled_bodies[i];
         const BodyInitialState& s = initial_[i];
+        if (!is_present(static_cast<int>(i))) continue;
         if (cb.dynamic || cb.kinematic) {
             dBodyID body = dBodyCreate(world_);
             bodies_[i] = body;
@@ -196,7 +198,8 @@ void OdeWorld::create_constraints() {
         if (c.disable_collisions)
             no_collision_pairs_.emplace_back(std::min(scene.body_index(c.body_a), scene.body_index(c.body_b)),
                                              std::max(scene.body_index(c.body_a), scene.body_index(c.body_b)));
-        if (c.enabled) create_constraint(i);
+        if (c.enabled && is_present(scene.body_index(c.body_a)) && is_present(scene.body_index(c.body_b)))
+            create_constraint(i);
     }
     std::sort(no_collision_pairs_.begin(), no_collision_pairs_.end());
 }
@@ -241,7 +244,7 @@ void OdeWorld::set_kinematic(size_t i, bool kinematic) {
 void OdeWorld::add_ghost(size_t i) {
     ghost_bodies_.resize(bodies_.size(), nullptr);
     ghost_geoms_.resize(bodies_.size());
-    if (ghost_bodies_[i] || !compiled_.bodies()[i].dynamic) return;
+    if (ghost_bodies_[i]) return;
     dBodyID ghost = dBodyCreate(world_);
     dBodySetKinematic(ghost);
     ghost_bodies_[i] = ghost;

@@ -53,7 +53,10 @@ struct JointGroup {
 
 class OdeWorld {
 public:
-    OdeWorld(const CompiledScene& compiled, const std::vector<BodyInitialState>& initial);
+    /// `present`: per scene body, 0 for a body this world does not have (no ODE body, no geoms,
+    /// no constraints; only a ghost may stand for it). Empty: every body is present.
+    OdeWorld(const CompiledScene& compiled, const std::vector<BodyInitialState>& initial,
+             const std::vector<uint8_t>& present = {});
     ~OdeWorld();
     OdeWorld(const OdeWorld&) = delete;
     OdeWorld& operator=(const OdeWorld&) = delete;
@@ -77,8 +80,8 @@ public:
 
     /// Refinement: a body stops being simulated and follows given poses, or starts again.
     void set_kinematic(size_t i, bool kinematic);
-    /// Refinement: adds a non-colliding, slightly grown copy of dynamic body i that follows
-    /// given poses (set with ghost_body(i)).
+    /// Refinement: adds a non-colliding, slightly grown copy of body i that follows given poses
+    /// (set with ghost_body(i)).
     void add_ghost(size_t i);
     dBodyID ghost_body(size_t i) const { return i < ghost_bodies_.size() ? ghost_bodies_[i] : nullptr; }
     /// Ghosts of earlier refinements leave collision detection; a later one may bring them back.
@@ -89,9 +92,11 @@ private:
     void create_geoms(size_t body_index, const std::vector<CollisionPart>& parts, dBodyID body, bool ghost);
     void create_constraints();
     void create_constraint(size_t constraint_index);
+    bool is_present(int body) const { return body < 0 || present_.empty() || present_[static_cast<size_t>(body)]; }
 
     const CompiledScene& compiled_;
     std::vector<BodyInitialState> initial_;
+    std::vector<uint8_t> present_;
     dThreadingImplementationID threading_ = nullptr;
     dWorldID world_ = nullptr;
     dSpaceID space_ = nullptr;

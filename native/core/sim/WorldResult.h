@@ -48,11 +48,16 @@ enum class WorldStatus { Ok, Rejected, Cancelled };
 
 /// One refinement in a world's lineage: from `branch_step` on, `bodies` (and whatever they
 /// touch) are simulated anew with the perturbation stream of world `world_index`, while every
-/// other body replays the world refined.
+/// other body replays the world refined. A step may also change the scene, always from t = 0:
+/// `added` bodies (scene indices beyond the refined world's) join it, simulated, with initial
+/// states drawn from world `world_index`'s stream; `removed` bodies leave it, and a ghost of each
+/// finds the bodies it used to touch.
 struct RefineStep {
     uint64_t branch_step = 0;
     uint64_t world_index = 0;
     std::vector<uint32_t> bodies;
+    std::vector<uint32_t> added;
+    std::vector<uint32_t> removed;
 };
 
 struct WorldResult {
@@ -77,6 +82,9 @@ struct WorldResult {
     std::vector<RefineStep> lineage;
     /// Refined worlds: per body, 1 if it moved differently from the parent (was simulated anew).
     std::vector<uint8_t> changed;
+    /// Per body, 1 if it exists in this world (0: removed in the lineage, or added only to other
+    /// worlds). Frames of absent bodies hold their scene pose and are never stored.
+    std::vector<uint8_t> present;
 };
 
 }  // namespace mwb

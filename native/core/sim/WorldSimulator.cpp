@@ -94,24 +94,43 @@ void collect_pair(void* data, dGeomID a, dGeomID b) {
 // exactly.
 class WorldRun {
 public:
-    WorldRun(const CompiledScene& compiled, uint64_t base_seed, uint64_t world_index)
+    /// `lineage`: the refinements this run will make (plan_refinements); the bodies they add or
+    /// remove decide which bodies the world has.
+    WorldRun(const CompiledScene& compiled, uint64_t base_seed, uint64_t world_index,
+             const std::vector<RefineStep>& lineage = {})
         : compiled_(compiled),
           base_seed_(base_seed),
           seed_(derive_world_seed(base_seed, world_index)),
           perturbation_random_(derive_stream_seed(seed_, kPerturbationStream)),
           perturber_(compiled.parameters().alpha_linear, compiled.parameters().lobe_exponent),
           angular_perturber_(compiled.parameters().alpha_angular, compiled.parameters().lobe_exponent) {
+        const size_t n = compiled.bodies().size();
+        present_.assign(n, 0);
+        std::fill(present_.begin(), present_.begin() + static_cast<std::ptrdiff_t>(compiled.sampled_body_count()), 1);
         PortableRandom initial_random(derive_stream_seed(seed_, kInitialStream));
-        world_ = std::make_unique<OdeWorld>(compiled, draw_initial_states(compiled.scene(), initial_random));
+        std::vector<BodyInitialState> initial = draw_initial_states(compiled.scene(), initial_random);
+        for (const RefineStep& step : lineage) {
+            for (uint32_t body : step.removed) present_[body] = 0;
+            if (step.added.empty()) continue;
+            // An added body starts as the world that added it drew it, whichever later run replays it.
+            PortableRandom added_random(derive_stream_seed(derive_world_seed(base_seed, step.world_index), kInitialStream));
+            const std::vector<BodyInitialState> drawn = draw_initial_states(compiled.scene(), added_random);
+            for (uint32_t body : step.added) {
+                present_[body] = 1;
+                initial[body] = drawn[body];
+            }
+        }
+        world_ = std::make_unique<OdeWorld>(compiled, initial, present_);
+        result_.present = present_;
         result_.world_index = world_index;
         result_.seed = seed_;
         result_.record_hz = compiled.parameters().record_hz;
         result_.step_hz = compiled.step_hz();
         result_.body_count = static_cast<uint32_t>(compiled.bodies().size());
-        const size_t n = compiled.bodies().size();
         rest_since_s_.assign(n, -1.0);
         impact_partner_.assign(n, kNoImpact);
-        for (const CompiledBody& body : compiled.bodies()) simulated_.push_back(body.dynamic ? 1 : 0);
+        activator_.assign(n, 0);
+        for (size_t i = 0; i < n; ++i) simulated_.push_back(compiled.bodies()[i].dynamic && present_[i] ? 1 : 0);
         // Bullet's damping model, as Blender uses it: v *= (1 - d)^dt every step.
         for (const Body& body : compiled.scene().bodies) {
             linear_damping_factor_.push_back(std::pow(1.0 - body.linear_damping, compiled.physics_dt_s()));
@@ -133,12 +152,14 @@ public:
         for (size_t i = 0; i < checkpoint.bodies.size(); ++i)
             if (compiled_.bodies()[i].dynamic) world_->set_body_state(i, checkpoint.bodies[i]);
         auto& groups = world_->joint_groups();
-        for (size_t i = 0; i < groups.size(); ++i)
-            if (checkpoint.joint_broken[i]) break_joint(groups[i]);
+        for (size_t i = 0; i < groups.size() && i < checkpoint.joint_broken.size(); ++i)
+            if (checkpoint.joint_broken[i] && !groups[i].joints.empty()) break_joint(groups[i]);
         ode_random_state_ = checkpoint.ode_random_state;
         perturbation_random_ = PortableRandom(checkpoint.perturbation_random_state);
-        rest_since_s_ = checkpoint.body_rest_since_s;
-        impact_partner_ = checkpoint.body_impact_partner;
+        std::copy_n(checkpoint.body_rest_since_s.begin(), std::min(checkpoint.body_rest_since_s.size(), rest_since_s_.size()),
+                    rest_since_s_.begin());
+        std::copy_n(checkpoint.body_impact_partner.begin(),
+                    std::min(checkpoint.body_impact_partner.size(), impact_partner_.size()), impact_partner_.begin());
         first_frame_ = static_cast<uint32_t>(step_ / compiled_.steps_per_frame());
     }
 
@@ -220,7 +241,7 @@ private:
         const Scene& scene = compiled_.scene();
         const double dt_anim = 1.0 / compiled_.step_hz();
         for (size_t i = 0; i < scene.bodies.size(); ++i) {
-            if (!compiled_.bodies()[i].kinematic) continue;
+            if (!compiled_.bodies()[i].kinematic || !present_[i]) continue;
             const Transform& rest = world_->initial_states()[i].pose;
             const Transform now = sample_animation(scene.bodies[i].animation, t, rest);
             const Transform next = sample_animation(scene.bodies[i].animation, t + dt_anim, rest);
@@ -385,7 +406,7 @@ private:
         const Scene& scene = compiled_.scene();
         for (size_t i = 0; i < scene.bodies.size(); ++i) {
             const CompiledBody& body = compiled_.bodies()[i];
-            if (body.kinematic && !scene.bodies[i].animation.times_s.empty() && t < scene.bodies[i].animation.times_s.back())
+            if (body.kinematic && present_[i] && !scene.bodies[i].animation.times_s.empty() && t < scene.bodies[i].animation.times_s.back())
                 return false;
             if (simulated_[i] && (rest_since_s_[i] < 0 || t - rest_since_s_[i] < compiled_.parameters().rest_duration_s))
                 return false;
@@ -398,21 +419,32 @@ private:
 
     // Switches to refinement k: its bodies (and bodies jointed to them) are simulated, every other
     // dynamic body replays the world being refined, and ghosts of the chosen bodies follow their
-    // old paths to find bodies they used to touch.
+    // old paths to find bodies they used to touch. Added bodies are simulated (or, if passive,
+    // wake what they touch); removed bodies leave a ghost, and their joint partners are freed.
     void begin_refinement(size_t k) {
+        const RefineStep& step = steps_[k];
         replay_ = replays_[k];
         branch_time_s_ = time_at(step_);
         const size_t n = compiled_.bodies().size();
         std::fill(simulated_.begin(), simulated_.end(), 0);
+        std::fill(activator_.begin(), activator_.end(), 0);
         activated_at_s_.assign(n, std::numeric_limits<double>::infinity());
         result_.changed.assign(n, 0);
-        for (uint32_t body : steps_[k].bodies) activate(body);
+        for (uint32_t body : step.bodies) activate(body);
+        for (uint32_t body : step.added) {
+            activate(body);
+            if (!compiled_.bodies()[body].dynamic) activator_[body] = 1;
+        }
+        for (uint32_t body : step.removed) activate_joint_partners(body);
         for (size_t i = 0; i < n; ++i)
             if (compiled_.bodies()[i].dynamic && !simulated_[i]) world_->set_kinematic(i, true);
         for (uint32_t body : ghosts_) world_->set_ghost_enabled(body, false);
         ghosts_.clear();
-        for (uint32_t body : steps_[k].bodies) {
-            if (!compiled_.bodies()[body].dynamic) continue;
+        std::vector<uint32_t> ghosted;
+        for (uint32_t body : step.bodies)
+            if (compiled_.bodies()[body].dynamic) ghosted.push_back(body);
+        ghosted.insert(ghosted.end(), step.removed.begin(), step.removed.end());
+        for (uint32_t body : ghosted) {
             world_->add_ghost(body);
             world_->set_ghost_enabled(body, true);
             ghosts_.push_back(body);
@@ -424,7 +456,7 @@ private:
 
     // Starts simulating body i (and, through joints, its partners) from its replayed state.
     void activate(uint32_t i) {
-        if (i >= simulated_.size() || simulated_[i] || !compiled_.bodies()[i].dynamic) return;
+        if (i >= simulated_.size() || simulated_[i] || !compiled_.bodies()[i].dynamic || !present_[i]) return;
         simulated_[i] = 1;
         result_.changed[i] = 1;
         activated_at_s_[i] = time_at(step_);
@@ -442,6 +474,18 @@ private:
         }
     }
 
+    // The bodies a removed body was jointed to lose that joint: they move anew.
+    void activate_joint_partners(uint32_t removed) {
+        const Scene& scene = compiled_.scene();
+        for (const Constraint& c : scene.constraints) {
+            if (!c.enabled) continue;
+            const int a = scene.body_index(c.body_a);
+            const int b = scene.body_index(c.body_b);
+            if (a == static_cast<int>(removed) && b >= 0) activate(static_cast<uint32_t>(b));
+            if (b == static_cast<int>(removed) && a >= 0) activate(static_cast<uint32_t>(a));
+        }
+    }
+
     // A replayed body starts being simulated when a simulated body or a ghost touches it; repeated
     // until nothing more changes, so the result does not depend on the order of the pairs.
     void activate_touched_bodies() {
@@ -452,8 +496,8 @@ private:
                 const GeomOwner& oa = owners[pair.first_index];
                 const GeomOwner& ob = owners[pair.second_index];
                 if (oa.body == ob.body || (oa.ghost && ob.ghost)) continue;
-                const bool active_a = oa.ghost || simulated_[oa.body];
-                const bool active_b = ob.ghost || simulated_[ob.body];
+                const bool active_a = oa.ghost || simulated_[oa.body] || activator_[oa.body];
+                const bool active_b = ob.ghost || simulated_[ob.body] || activator_[ob.body];
                 const bool replayed_a = !oa.ghost && replayed(oa.body);
                 const bool replayed_b = !ob.ghost && replayed(ob.body);
                 if (!((active_a && replayed_b) || (active_b && replayed_a))) continue;
@@ -466,7 +510,9 @@ private:
         }
     }
 
-    bool replayed(int32_t body) const { return compiled_.bodies()[body].dynamic && !simulated_[body]; }
+    bool replayed(int32_t body) const {
+        return compiled_.bodies()[body].dynamic && present_[body] && !simulated_[body];
+    }
 
     // Pose of body i in the world being refined, at frame f (its last frame after its end).
     Transform replay_frame(size_t i, uint32_t f) const {
@@ -533,9 +579,11 @@ private:
         result_.first_frame = 0;
         result_.frame_count = static_cast<uint32_t>(frames);
         std::vector<ContactEvent> events;
-        for (const ContactEvent& e : replay_->contacts)
+        for (const ContactEvent& e : replay_->contacts) {
+            if (e.body >= 0 && !present_[static_cast<size_t>(e.body)]) continue;
             if (e.time_s <= branch_time_s_ || (e.body >= 0 && e.time_s <= activated_at_s_[static_cast<size_t>(e.body)]))
                 events.push_back(e);
+        }
         for (const ContactEvent& e : result_.contacts)
             if (e.time_s > branch_time_s_ && e.body >= 0 && e.time_s > activated_at_s_[static_cast<size_t>(e.body)])
                 events.push_back(e);
@@ -574,7 +622,7 @@ private:
         const uint32_t frame = static_cast<uint32_t>(step_ / compiled_.steps_per_frame());
         for (size_t i = 0; i < compiled_.bodies().size(); ++i) {
             // A replayed body records its parent's frame itself, bit for bit.
-            if (replay_ && compiled_.bodies()[i].dynamic && !simulated_[i]) {
+            if (replay_ && replayed(static_cast<int32_t>(i))) {
                 frames_.push_back(replay_frame(i, frame));
                 continue;
             }
@@ -619,6 +667,8 @@ private:
     uint32_t first_frame_ = 0;
     const Checkpoint* restored_ = nullptr;
     std::vector<uint8_t> simulated_;     ///< per body: stepped by ODE now (not fixed, animated or replayed)
+    std::vector<uint8_t> present_;       ///< per body: exists in this world
+    std::vector<uint8_t> activator_;     ///< per body: a passive body added now, waking what it touches
     std::vector<RefineStep> steps_;
     std::vector<const WorldResult*> replays_;
     size_t next_refinement_ = 0;
@@ -691,11 +741,13 @@ WorldResult run_refinements(const CompiledScene& compiled, uint64_t base_seed, c
         replays.insert(replays.begin(), &chain[k]);
     }
     const WorldResult& root = chain.front();
-    WorldRun run(compiled, base_seed, root.world_index);
+    WorldRun run(compiled, base_seed, root.world_index, steps);
     const Checkpoint* start = nullptr;
     for (const Checkpoint& c : root.checkpoints)
         if (c.step_index <= effective.front().branch_step) start = &c;
-    if (start) run.restore(*start);
+    // From t = 0 (always so when the lineage adds or removes bodies) the run starts afresh: a
+    // sampled checkpoint would overwrite the starting state of added bodies.
+    if (start && start->step_index > 0) run.restore(*start);
     run.plan_refinements(effective, replays);
     WorldResult result = run.run(cancel);
     result.lineage = steps;
@@ -715,10 +767,30 @@ void check_refinement(const CompiledScene& compiled, const std::vector<WorldResu
     if (step.branch_step % compiled.steps_per_frame() != 0 ||
         step.branch_step / compiled.steps_per_frame() >= parent.frame_count)
         throw std::invalid_argument("branch step " + std::to_string(step.branch_step) + " is not a frame of the parent");
-    if (step.bodies.empty()) throw std::invalid_argument("refinement needs at least one body");
-    for (uint32_t body : step.bodies)
-        if (body >= compiled.bodies().size() || !compiled.bodies()[body].dynamic)
+    const bool changes_scene = !step.added.empty() || !step.removed.empty();
+    if (step.bodies.empty() && !changes_scene)
+        throw std::invalid_argument("refinement needs at least one body to refine, add or remove");
+    if (changes_scene && step.branch_step != 0)
+        throw std::invalid_argument("bodies are added and removed from t = 0 only");
+    const size_t n = compiled.bodies().size();
+    auto in_parent = [&](uint32_t body) { return parent.present.empty() || parent.present[body]; };
+    auto name = [&](uint32_t body) { return "body '" + compiled.scene().bodies[body].name + "'"; };
+    for (uint32_t body : step.bodies) {
+        if (body >= n || !compiled.bodies()[body].dynamic)
             throw std::invalid_argument("body " + std::to_string(body) + " is not a simulated body");
+        if (!in_parent(body)) throw std::invalid_argument(name(body) + " is not in world " + std::to_string(parent.world_index));
+    }
+    for (uint32_t body : step.removed) {
+        if (body >= n) throw std::invalid_argument("body " + std::to_string(body) + " is not in the scene");
+        if (!in_parent(body)) throw std::invalid_argument(name(body) + " is not in world " + std::to_string(parent.world_index));
+    }
+    for (uint32_t body : step.added) {
+        if (body >= n) throw std::invalid_argument("body " + std::to_string(body) + " is not in the scene");
+        if (in_parent(body)) throw std::invalid_argument(name(body) + " is already in world " + std::to_string(parent.world_index));
+        if (std::count(step.added.begin(), step.added.end(), body) > 1 ||
+            std::count(step.removed.begin(), step.removed.end(), body) > 0)
+            throw std::invalid_argument(name(body) + " is listed twice");
+    }
 }
 
 WorldResult refine_world(const CompiledScene& compiled, uint64_t base_seed, const std::vector<WorldResult>& chain,
