@@ -1,6 +1,7 @@
 """Library files written by the engine process: reading, crash safety under kill -9, following,
 merging, and the engine's command-line errors."""
 import os
+import json
 import random
 import signal
 import subprocess
@@ -9,6 +10,7 @@ import time
 import numpy as np
 import pytest
 
+from camera_math import look_at, perspective, screen_of
 from conftest import SCENES, run_engine
 
 QUICKSTART = os.path.join(SCENES, "quickstart.json")
@@ -174,7 +176,7 @@ def test_refined_worlds_store_only_what_changed_and_read_back_whole(native, engi
     for child in (3, 4, 5, 6):
         info = lib.world_info(child)
         assert info["parent_world"] == 1 and info["root_world"] == 1
-        assert info["branch_time_s"] == 1.0 and info["lineage"] == [(1.0, child, [die])]
+        assert info["branch_time_s"] == 1.0 and info["lineage"] == [(1.0, child, [die], [], [])]
         changed = info["changed_bodies"]
         assert changed[die]
         positions = lib.positions(child)
@@ -204,3 +206,92 @@ def test_refine_mistakes_are_clear_errors(engine, tmp_path):
                          (["--world", "0", "--bodies", "2", "--time", "99"], "not a frame of the parent")):
         result = run_engine(engine, "refine", "--library", str(out), *args)
         assert result.returncode == 2 and phrase in result.stderr, result.stderr
+
+
+def scene_with_pebble(tmp_path):
+    """quickstart.json exported again after a 10 cm ball was added far from everything."""
+    with open(QUICKSTART) as f:
+        scene = json.load(f)
+    scene["bodies"].append({"name": "Pebble", "type": "ACTIVE", "shape": {"type": "SPHERE", "radius_m": 0.1},
+                            "initial": {"location": [4.0, 4.0, 1.0]}})
+    path = tmp_path / "with_pebble.json"
+    path.write_text(json.dumps(scene))
+    return str(path)
+
+
+def test_bodies_added_to_and_removed_from_worlds(native, engine, tmp_path):
+    out = tmp_path / "changes.mwb"
+    sample(engine, out, "--worlds", "0:2")
+    sampled = native.Library(str(out))
+    names = native.Scene.from_json(sampled.header["scene_json"]).body_names
+    chute, die = names.index("Chute"), names.index("Die")
+    result = run_engine(engine, "refine", "--library", str(out), "--world", "0", "--add", "Pebble",
+                        "--scene", scene_with_pebble(tmp_path), "--count", "2", "--threads", "2")
+    assert result.returncode == 0, result.stderr
+    result = run_engine(engine, "refine", "--library", str(out), "--world", "1", "--remove", "Chute", "--count", "1")
+    assert result.returncode == 0, result.stderr
+    lib = native.Library(str(out))
+    assert lib.warnings == []
+    assert lib.header["scene_json"] == sampled.header["scene_json"], "the sampled scene stays as it was"
+    pebble = len(names)
+    assert lib.body_count == pebble + 1
+    assert [b["name"] for b in json.loads(lib.scene_json)["bodies"]] == names + ["Pebble"]
+    # Worlds sampled before the pebble do not have it: NaN rows, no metrics, never in a box.
+    assert lib.present(0) == [True] * pebble + [False]
+    assert np.isnan(lib.positions(0)[pebble]).all() and np.isnan(lib.polyline(0)[pebble]).all()
+    assert lib.metrics(0)["collision_count"][pebble] == 0
+    parent = lib.positions(0)
+    bound = lib.header["position_error_max_m"]
+    for child in (2, 3):
+        assert lib.present(child) == [True] * (pebble + 1)
+        assert lib.world_info(child)["lineage"] == [(0.0, child, [], [pebble], [])]
+        positions = lib.positions(child)
+        # The pebble falls from where it was added onto the ground; nothing else is touched.
+        assert np.abs(positions[pebble, 0] - [4.0, 4.0, 1.0]).max() < 0.1
+        assert abs(positions[pebble, -1, 2] - 0.1) < 0.01
+        assert lib.world_info(child)["changed_bodies"] == [False] * pebble + [True]
+        frames = min(parent.shape[1], positions.shape[1])
+        np.testing.assert_array_equal(positions[:pebble, :frames], parent[:pebble, :frames])
+    # Without the chute the die drops where it was instead of sliding down the chute.
+    removed = 4
+    assert not lib.present(removed)[chute] and lib.present(removed)[die]
+    assert np.isnan(lib.positions(removed)[chute]).all()
+    assert lib.positions(1)[die, -1, 0] > 1.5
+    assert lib.positions(removed)[die, -1, 0] < 0.5 and abs(lib.positions(removed)[die, -1, 2] - 0.1) < 2 * bound + 0.01
+    # A query box around the chute's place finds the chute's path in world 1, never in world 4.
+    index = native.PathIndex(native.body_bounding_radii(native.Scene.from_json(lib.scene_json)))
+    assert index.add_library(lib) == 5
+    view, projection, size = look_at([0, -8, 3], [0, 0, 0]), perspective(0.9, 1.6, 0.1, 100), (1600, 1000)
+    x, y = screen_of(view, projection, size, [0, 0, 0])
+    box = native.QueryBox(view, projection, size, (x - 10, y - 10, x + 10, y + 10), bodies=[chute])
+    assert sorted(int(w) for w in index.query([box])["matching"]) == [0, 1, 2, 3]
+    far = native.QueryBox(view, projection, size, (x - 10, y - 10, x + 10, y + 10), bodies=[pebble])
+    assert list(index.query([far])["matching"]) == [], "no world has the pebble there"
+    # Adding the pebble again to another world reuses its index; a changed pebble is refused.
+    result = run_engine(engine, "refine", "--library", str(out), "--world", "1", "--add", "Pebble",
+                        "--scene", scene_with_pebble(tmp_path), "--count", "1")
+    assert result.returncode == 0, result.stderr
+    lib = native.Library(str(out))
+    assert lib.body_count == pebble + 1 and lib.present(5)[pebble]
+
+
+def test_adding_and_removing_mistakes_are_clear_errors(engine, tmp_path):
+    out = tmp_path / "m.mwb"
+    sample(engine, out, "--worlds", "0:1")
+    pebble_scene = scene_with_pebble(tmp_path)
+    with open(pebble_scene) as f:
+        moved = json.load(f)
+    moved["bodies"][-1]["initial"]["location"] = [3.0, 4.0, 1.0]
+    moved_scene = tmp_path / "moved.json"
+    moved_scene.write_text(json.dumps(moved))
+    run_engine(engine, "refine", "--library", str(out), "--world", "0", "--add", "Pebble", "--scene", pebble_scene,
+               "--count", "1")
+    for args, phrase in ((["--world", "0", "--add", "Pebble"], "--add needs --scene"),
+                         (["--world", "0", "--add", "Nothing", "--scene", pebble_scene], "'Nothing': not in the exported scene"),
+                         (["--world", "0", "--add", "Die", "--scene", pebble_scene], "already in world 0"),
+                         (["--world", "0", "--remove", "Nothing"], "no body 'Nothing'"),
+                         (["--world", "0", "--remove", "Pebble"], "not in world 0"),
+                         (["--world", "0", "--remove", "Die", "--time", "1"], "act from t = 0"),
+                         (["--world", "0", "--add", "Pebble", "--scene", str(moved_scene)], "different body of that name")):
+        result = run_engine(engine, "refine", "--library", str(out), *args)
+        assert result.returncode in (2, 3) and phrase in result.stderr, (args, result.stderr)

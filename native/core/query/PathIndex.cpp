@@ -61,8 +61,9 @@ void PathIndex::add_worlds(std::vector<IndexedWorldInput> worlds, int threads) {
                                     }),
                      worlds.end());
     }
+    // A world may have fewer paths than the scene has bodies: bodies added after it was made.
     for (const IndexedWorldInput& w : worlds)
-        if (w.polylines.size() != body_radii_m_.size())
+        if (w.polylines.size() > body_radii_m_.size())
             throw std::invalid_argument("world " + std::to_string(w.world_index) + " has " +
                                         std::to_string(w.polylines.size()) + " paths, the index " +
                                         std::to_string(body_radii_m_.size()) + " bodies");
