@@ -165,8 +165,12 @@ int run_info(const EngineOptions& options) {
     const Scene scene = scene_from_json(reader.scene_json());
     uint64_t motion_bytes = 0, body_frames = 0;
     for (const StoredWorld& w : reader.worlds()) {
-        for (const StoredTrack& t : w.tracks) motion_bytes += t.position.size() + t.rotation.size();
-        body_frames += uint64_t{w.frame_count} * w.tracks.size();
+        // What the file holds: each world's own tracks (inherited ones are its parent's).
+        for (const StoredTrack& t : w.tracks) {
+            if (!t.present || t.inherited) continue;
+            motion_bytes += t.position.size() + t.rotation.size();
+            body_frames += w.frame_count;
+        }
     }
     std::map<std::string, uint64_t> reasons;
     for (const StoredRejection& r : reader.rejections()) ++reasons[r.reason];
