@@ -6,6 +6,13 @@ fps does not divide 120). Keys run to the world's last recorded frame and hold a
 Rotations are written as quaternions (the object's rotation_mode becomes 'QUATERNION'): Euler
 keys interpolate differently between frames and can flip at +-180 degrees.
 Like Blender's "Bake To Keyframes", the baked objects lose their rigid body so the keys rule.
+
+An object whose body does not exist in the baked world (removed from it, or added only to other
+worlds) would otherwise stand still or be simulated by Blender among the baked objects; the bake
+hides it instead, with keys on hide_viewport and hide_render (shown until the frame before the
+simulation starts, hidden from its first frame on), and takes it out of the simulation if the
+simulation moved it. Baking a world it exists in removes those keys again and shows it. Objects
+that are not bodies of the library are left alone.
 """
 import bpy
 import numpy as np
@@ -15,28 +22,35 @@ from .core import arrays
 from .core.session import SESSION
 
 GROUP = "Object Transforms"
+# Hide keys of the bake, told apart from the user's own by their group.
+VISIBILITY_GROUP = "Many Worlds Visibility"
+VISIBILITY_PATHS = ("hide_viewport", "hide_render")
 
 
-def _write_channel(action, data_path, index, frames, values):
+def _write_channel(action, data_path, index, frames, values, group=GROUP):
     fcurve = compat.find_fcurve(action, data_path, index)
     if fcurve is not None:
         action.fcurves.remove(fcurve)
-    fcurve = compat.new_fcurve(action, data_path, index, GROUP)
+    fcurve = compat.new_fcurve(action, data_path, index, group)
     # The bulk path: one allocation and one array copy instead of a keyframe_insert per frame.
     fcurve.keyframe_points.add(len(frames))
     fcurve.keyframe_points.foreach_set("co", arrays.fcurve_points(frames, values))
     fcurve.update()
+    return fcurve
+
+
+def _action_of(ob, action_suffix):
+    if ob.animation_data is None:
+        ob.animation_data_create()
+    if ob.animation_data.action is None:
+        ob.animation_data.action = bpy.data.actions.new(f"{ob.name}{action_suffix}")
+    return ob.animation_data.action
 
 
 def bake_objects(objects, frames, locations, rotations, action_suffix="MWB"):
     """Key objects[i] at frames with locations[i] (n, 3) and quaternions rotations[i] (n, 4)."""
     for ob, loc, rot in zip(objects, locations, rotations):
-        if ob.animation_data is None:
-            ob.animation_data_create()
-        action = ob.animation_data.action
-        if action is None:
-            action = bpy.data.actions.new(f"{ob.name}{action_suffix}")
-            ob.animation_data.action = action
+        action = _action_of(ob, action_suffix)
         ob.rotation_mode = "QUATERNION"
         for k in range(3):
             _write_channel(action, "location", k, frames, loc[:, k])
@@ -44,33 +58,74 @@ def bake_objects(objects, frames, locations, rotations, action_suffix="MWB"):
             _write_channel(action, "rotation_quaternion", k, frames, rot[:, k])
 
 
+def _remove_visibility_keys(ob):
+    """Remove hide keys an earlier bake wrote (the user's own stay) and show the object again."""
+    action = ob.animation_data.action if ob.animation_data is not None else None
+    if action is None:
+        return
+    for path in VISIBILITY_PATHS:
+        fcurve = compat.find_fcurve(action, path, 0)
+        if fcurve is not None and fcurve.group is not None and fcurve.group.name == VISIBILITY_GROUP:
+            action.fcurves.remove(fcurve)
+            # The keys last set the property; without them it would stay as they left it.
+            setattr(ob, path, False)
+
+
+def hide_objects(objects, frame_start, action_suffix="MWB"):
+    """Key the objects shown up to frame_start - 1 and hidden from frame_start on (viewport and render)."""
+    frames = np.array([frame_start - 1, frame_start], dtype=np.float64)
+    for ob in objects:
+        action = _action_of(ob, action_suffix)
+        for path in VISIBILITY_PATHS:
+            fcurve = _write_channel(action, path, 0, frames, [0.0, 1.0], VISIBILITY_GROUP)
+            for key in fcurve.keyframe_points:
+                key.interpolation = "CONSTANT"
+
+
 def remove_rigid_bodies(context, objects):
     """Take the objects out of the simulation, as Blender's Bake To Keyframes does."""
+    objects = [ob for ob in objects if ob.rigid_body is not None]
+    if not objects:
+        return
     with compat.temp_override(context, selected_objects=list(objects), active_object=objects[0],
                               object=objects[0]):
         bpy.ops.rigidbody.objects_remove()
 
 
+def _objects_of(view, bodies):
+    """(body index, object) of the bodies whose objects exist in this file."""
+    pairs = [(i, bpy.data.objects.get(view.body_names[i])) for i in bodies]
+    return [(i, ob) for i, ob in pairs if ob is not None]
+
+
 def bake_world(context, world):
-    """Bake one world of the open library onto the scene's objects; returns the baked object names."""
+    """Bake one world of the open library onto the scene's objects and hide the objects whose
+    bodies it does not have. Returns (baked object names, hidden object names)."""
     view = SESSION.view
     positions, orientations, record_hz = view.decoded(world)
     frames = arrays.bake_scene_frames(view.frame_start, view.fps, record_hz, positions.shape[1])
     world_frames = arrays.world_frame_of_scene_frame(frames, view.frame_start, view.fps, record_hz)
-    loc, rot = arrays.sample_tracks(positions, orientations, world_frames)
-    pairs = [(i, bpy.data.objects.get(view.body_names[i])) for i in view.simulated_bodies()]
-    pairs = [(i, ob) for i, ob in pairs if ob is not None]
-    if not pairs:
-        return []
-    index = np.array([i for i, _ in pairs])
-    objects = [ob for _, ob in pairs]
-    bake_objects(objects, frames.astype(np.float64), loc[index], rot[index])
-    remove_rigid_bodies(context, objects)
-    return [ob.name for ob in objects]
+    present = view.present(world)
+    simulated = view.simulated_bodies()
+    pairs = _objects_of(view, view.present_bodies(world, simulated))
+    every = _objects_of(view, range(len(view.body_names)))
+    absent = [ob for i, ob in every if not present[i]]
+    if pairs:
+        index = np.array([i for i, _ in pairs])
+        loc, rot = arrays.sample_tracks(positions[index], orientations[index], world_frames)
+        bake_objects([ob for _, ob in pairs], frames.astype(np.float64), loc, rot)
+    for i, ob in every:
+        if present[i]:
+            _remove_visibility_keys(ob)
+    hide_objects(absent, view.frame_start)
+    absent_simulated = {view.body_names[i] for i in simulated if not present[i]}
+    remove_rigid_bodies(context, [ob for _, ob in pairs] + [ob for ob in absent if ob.name in absent_simulated])
+    return [ob.name for _, ob in pairs], [ob.name for ob in absent]
 
 
 class MWB_OT_bake_world(bpy.types.Operator):
-    """Write the selected world as keyframes on its objects and remove their rigid bodies"""
+    """Write the selected world as keyframes on its objects and remove their rigid bodies; objects not
+    in the world are keyed hidden"""
     bl_idname = "mwb.bake_world"
     bl_label = "Bake World"
     bl_options = {"REGISTER", "UNDO"}
@@ -84,11 +139,12 @@ class MWB_OT_bake_world(bpy.types.Operator):
         world = context.scene.mwb.selected_world
         # The preview moved the objects and switched the rigid body world off; put that back first.
         preview.end(context.scene)
-        names = bake_world(context, world)
-        if not names:
+        names, hidden = bake_world(context, world)
+        if not names and not hidden:
             self.report({"WARNING"}, "No object of this world exists in the scene")
             return {"CANCELLED"}
-        self.report({"INFO"}, f"Baked world {world} onto {len(names)} objects")
+        extra = f"; hid {len(hidden)} not in it ({', '.join(hidden)})" if hidden else ""
+        self.report({"INFO"}, f"Baked world {world} onto {len(names)} objects{extra}")
         return {"FINISHED"}
 
 

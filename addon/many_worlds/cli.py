@@ -31,6 +31,8 @@ import numpy as np  # noqa: E402
 
 from . import _native  # noqa: E402
 from .core import contact_sheet, engine, paths  # noqa: E402
+from .core.library_view import LibraryView  # noqa: E402
+from .core.query import CONSTRAINTS_SATISFIED, BoxSpec, LibraryQuery  # noqa: E402
 
 METRICS = ("angular_travel_rad", "time_to_rest_s", "collision_count", "orientation_change_rad", "path_length_m",
            "orientation_to_goal_rad", "constraints_satisfied")
@@ -78,16 +80,37 @@ def open_library(path):
         raise CliError(str(error))
 
 
+def open_view(path):
+    """The library as the add-on browses it: the bodies of its current scene, which exist where."""
+    require_file(path, "library")
+    try:
+        return LibraryView(_native, path)
+    except _native.LibraryError as error:
+        raise CliError(str(error))
+
+
+def library_bodies(library):
+    """The bodies of the library's current scene: the sampled ones, then every one added since."""
+    return json.loads(library.scene_json)["bodies"]
+
+
 def library_body_names(library):
-    return [b["name"] for b in json.loads(library.header["scene_json"])["bodies"]]
+    return [b["name"] for b in library_bodies(library)]
 
 
 def check_library_matches_scene(library, path):
-    """The library must come from this .blend: every body it holds is an object here."""
+    """The library must come from this .blend: every body it holds is an object here, except bodies
+    that some worlds lack (added or removed after sampling; a removed one may be deleted here)."""
     import bpy
-    missing = [name for name in library_body_names(library) if name not in bpy.data.objects]
+    names = library_body_names(library)
+    missing = [i for i, name in enumerate(names) if name not in bpy.data.objects]
     if missing:
-        raise CliError(f"{path} was sampled from another scene: no object {missing[0]!r} in "
+        lacking = set()
+        for world in library.world_indices:
+            lacking.update(i for i, present in enumerate(library.present(world)) if not present)
+        missing = [i for i in missing if i not in lacking]
+    if missing:
+        raise CliError(f"{path} was sampled from another scene: no object {names[missing[0]]!r} in "
                        f"{bpy.data.filepath or 'this file'}")
 
 
@@ -99,8 +122,8 @@ def body_indices(library, objects_text, default="simulated"):
         if unknown:
             raise CliError(f"unknown object {unknown[0]!r} (the library has: {', '.join(names)})")
         return [names.index(n) for n in wanted]
-    scene = json.loads(library.header["scene_json"])
-    return [i for i, b in enumerate(scene["bodies"]) if b["type"] == "ACTIVE" and not b.get("kinematic", False)]
+    return [i for i, b in enumerate(library_bodies(library))
+            if b["type"] == "ACTIVE" and not b.get("kinematic", False)]
 
 
 # --- sample ---------------------------------------------------------------------------------
@@ -214,69 +237,55 @@ def parse_boxes(args, library):
     return boxes
 
 
-def path_index(library):
-    """Every world of the library in a path index, for queries and rankings."""
-    scene = _native.Scene.from_json(library.header["scene_json"])
-    index = _native.PathIndex(_native.body_bounding_radii(scene))
-    index.add_library(library)
-    return index
-
-
-def evaluate_boxes(args, library):
-    boxes = parse_boxes(args, library)
+def evaluate_boxes(args, view):
+    """(LibraryQuery over every world, QueryResult of the --box groups or None without boxes).
+    Like the add-on, a box never sees bodies a world lacks."""
+    boxes = parse_boxes(args, view.library)
     if not boxes:
-        return None, None
-    view, projection, (width, height) = camera_view(args.camera)
-    native_boxes = []
-    for b in boxes:
-        x0, y0, x1, y1 = b["rect"]
-        try:
-            native_boxes.append(_native.QueryBox(view, projection, (width, height),
-                                                 (x0 * width, y0 * height, x1 * width, y1 * height),
-                                                 negative=b["negative"], bodies=b["bodies"],
-                                                 time_window=b["time_window"], swept=b["swept"]))
-        except ValueError as error:
-            raise CliError(f"--box: {error}")
-    index = path_index(library)
-    return index, index.query(native_boxes)
+        return LibraryQuery(_native, view), None
+    view_matrix, projection, (width, height) = camera_view(args.camera)
+    specs = [BoxSpec(view=view_matrix, projection=projection, size=(width, height),
+                     rect=(b["rect"][0] * width, b["rect"][1] * height, b["rect"][2] * width, b["rect"][3] * height),
+                     negative=b["negative"], bodies=tuple(b["bodies"]), time_window=b["time_window"],
+                     swept=b["swept"]) for b in boxes]
+    lq = LibraryQuery(_native, view)
+    try:
+        return lq, lq.evaluate(specs)
+    except ValueError as error:
+        raise CliError(f"--box: {error}")
 
 
 def command_query(args):
-    library = open_library(args.library)
-    check_library_matches_scene(library, args.library)
+    view = open_view(args.library)
+    check_library_matches_scene(view.library, args.library)
     if not args.box_specs:
         raise CliError("query needs at least one --box")
-    _, result = evaluate_boxes(args, library)
-    matching = [int(w) for w in result["matching"]]
+    _, result = evaluate_boxes(args, view)
+    matching = sorted(int(w) for w, m in zip(view.world_indices, result.matching) if m)
     if args.json:
-        print(json.dumps({"worlds": len(result["world_indices"]), "matching": matching}))
+        print(json.dumps({"worlds": len(view.world_indices), "matching": matching}))
     else:
-        print(f"{len(matching)} of {len(result['world_indices'])} worlds match")
+        print(f"{len(matching)} of {len(view.world_indices)} worlds match")
         for w in matching:
             print(w)
     return 0
 
 
 def command_rank(args):
-    library = open_library(args.library)
+    view = open_view(args.library)
     if args.metric not in METRICS:
         raise CliError(f"unknown metric {args.metric!r} (one of: {', '.join(METRICS)})")
-    bodies = body_indices(library, args.objects)
+    bodies = body_indices(view.library, args.objects)
     if args.box_specs:
-        check_library_matches_scene(library, args.library)
-    index, result = evaluate_boxes(args, library)
-    if args.metric == "constraints_satisfied":
+        check_library_matches_scene(view.library, args.library)
+    lq, result = evaluate_boxes(args, view)
+    if args.metric == CONSTRAINTS_SATISFIED:
         if result is None:
             raise CliError("constraints_satisfied ranks by boxes: give at least one --box")
-        order = np.argsort(-result["boxes_satisfied"] if not args.asc else result["boxes_satisfied"], kind="stable")
-        ids, values = result["world_indices"][order], result["boxes_satisfied"][order].astype(float)
+        ids, values = lq.rank(CONSTRAINTS_SATISFIED, bodies, descending=not args.asc)
     else:
-        if index is None:
-            index = path_index(library)
-        only = [int(w) for w in result["matching"]] if result is not None else None
-        goals = [(1.0, 0.0, 0.0, 0.0)] * len(bodies) if args.metric == "orientation_to_goal_rad" else None
-        ids, values = index.rank(args.metric, bodies, combine=args.combine, descending=args.desc, only=only,
-                                 goals=goals)
+        # Without boxes every world matches; with them, only the matching worlds are ranked.
+        ids, values = lq.rank(args.metric, bodies, combine=args.combine, descending=args.desc)
     limit = args.limit or len(ids)
     for w, v in list(zip(ids, values))[:limit]:
         print(f"{int(w)} {v:.6g}")
@@ -288,17 +297,17 @@ def command_rank(args):
 def command_bake(args):
     import bpy
     from . import bake
-    from .core.library_view import LibraryView
     from .core.session import SESSION
-    library = open_library(args.library)
-    check_library_matches_scene(library, args.library)
-    if args.world not in set(int(w) for w in library.world_indices):
+    view = open_view(args.library)
+    check_library_matches_scene(view.library, args.library)
+    if args.world not in set(int(w) for w in view.world_indices):
         raise CliError(f"no world {args.world} in {args.library}")
-    SESSION.view = LibraryView(_native, args.library)
-    names = bake.bake_world(bpy.context, args.world)
+    SESSION.view = view
+    names, hidden = bake.bake_world(bpy.context, args.world)
     out = os.path.abspath(args.out)
     bpy.ops.wm.save_as_mainfile(filepath=out, copy=True)
-    print(f"baked world {args.world} onto {len(names)} objects -> {out}")
+    extra = f" (hid {', '.join(hidden)}: not in this world)" if hidden else ""
+    print(f"baked world {args.world} onto {len(names)} objects{extra} -> {out}")
     return 0
 
 
@@ -317,8 +326,8 @@ def command_preview(args):
     bodies = body_indices(library, args.objects)
     tiles = []
     for w in worlds:
-        polylines = library.polyline(w)
-        tiles.append((w, [polylines[b] for b in bodies]))
+        polylines, present = library.polyline(w), library.present(w)
+        tiles.append((w, [polylines[b] for b in bodies if present[b]]))
     image = contact_sheet.render(tiles, view, projection, (width, height), tile_width=args.tile_width)
     contact_sheet.save_png(image, os.path.abspath(args.out))
     print(f"contact sheet of {len(worlds)} worlds -> {os.path.abspath(args.out)}")

@@ -2,7 +2,9 @@
 
 While previewing, the scene's rigid body world is switched off so Blender's own cache does not
 move the objects as well, and each object's own transform is saved in the scene (so even a saved
-and reopened file can be restored). `end` puts everything back.
+and reopened file can be restored). An object whose body does not exist in the previewed world
+(removed from it, or added only to other worlds) stays where it is, drawn as wire, so it can still
+be selected (to add it to the world, say). `end` puts everything back.
 """
 import bpy
 from mathutils import Matrix, Quaternion, Vector
@@ -10,15 +12,37 @@ from mathutils import Matrix, Quaternion, Vector
 from .core import arrays
 from .core.session import SESSION
 
+ABSENT_DISPLAY = "WIRE"
+
 
 def _objects_by_body(view):
-    """(body index, object) of the simulated bodies that exist in this file."""
+    """(body index, object) of the library's bodies that exist in this file."""
     out = []
-    for i in view.simulated_bodies():
-        ob = bpy.data.objects.get(view.body_names[i])
+    for i, name in enumerate(view.body_names):
+        ob = bpy.data.objects.get(name)
         if ob is not None:
             out.append((i, ob))
     return out
+
+
+def _saved_items(settings):
+    return {item.target.name: item for item in settings.preview_saved if item.target is not None}
+
+
+def _save(settings, saved, ob):
+    """Remember the object's own transform and display before the preview first changes it."""
+    if ob.name not in saved:
+        item = settings.preview_saved.add()
+        item.target = ob
+        item.matrix_basis = [v for row in ob.matrix_basis for v in row]
+        item.display_type = ob.display_type
+        saved[ob.name] = item
+    return saved[ob.name]
+
+
+def _saved_matrix(item):
+    m = item.matrix_basis
+    return Matrix([m[0:4], m[4:8], m[8:12], m[12:16]])
 
 
 def begin(scene):
@@ -29,10 +53,6 @@ def begin(scene):
         return False
     if not settings.previewing:
         settings.preview_saved.clear()
-        for _, ob in _objects_by_body(view):
-            item = settings.preview_saved.add()
-            item.target = ob
-            item.matrix_basis = [v for row in ob.matrix_basis for v in row]
         rbw = scene.rigidbody_world
         settings.preview_rigidbody_enabled = rbw.enabled if rbw is not None else True
         if rbw is not None:
@@ -46,27 +66,58 @@ def apply(scene, frame=None):
     """Pose the simulated objects at `frame` (default: the current frame and subframe)."""
     settings = scene.mwb
     view = SESSION.view
-    if not settings.previewing or view is None or settings.selected_world not in view.world_indices:
+    world = settings.selected_world
+    if not settings.previewing or view is None or world not in view.world_indices:
         return
     if frame is None:
         frame = scene.frame_current + scene.frame_subframe
-    positions, orientations, record_hz = view.decoded(settings.selected_world)
+    positions, orientations, record_hz = view.decoded(world)
     world_frame = arrays.world_frame_of_scene_frame([frame], view.frame_start, view.fps, record_hz)
     loc, rot = arrays.sample_tracks(positions, orientations, world_frame)
+    present = view.present(world)
+    simulated = set(view.simulated_bodies())
+    saved = _saved_items(settings)
     for i, ob in _objects_by_body(view):
-        scale = ob.matrix_world.to_scale()
-        ob.matrix_world = Matrix.LocRotScale(Vector(loc[i, 0]), Quaternion(rot[i, 0]), scale)
+        item = saved.get(ob.name)
+        if not present[i]:
+            _show_absent(settings, saved, item, ob)
+            continue
+        if item is not None and item.display_type and ob.display_type != item.display_type:
+            ob.display_type = item.display_type
+        if i in simulated:
+            item = _save(settings, saved, ob)
+            if item.restored:
+                # Absent from the last world shown, so the user may have moved it: its own transform now.
+                item.matrix_basis = [v for row in ob.matrix_basis for v in row]
+                item.restored = False
+            scale = ob.matrix_world.to_scale()
+            ob.matrix_world = Matrix.LocRotScale(Vector(loc[i, 0]), Quaternion(rot[i, 0]), scale)
+
+
+def _show_absent(settings, saved, item, ob):
+    """An object whose body the world lacks: at its own transform, drawn as wire."""
+    if item is None:
+        item = _save(settings, saved, ob)
+        item.restored = True
+    elif not item.restored:
+        # Posed by the world shown before: back where the user had it.
+        ob.matrix_basis = _saved_matrix(item)
+        item.restored = True
+    if ob.display_type != ABSENT_DISPLAY:
+        ob.display_type = ABSENT_DISPLAY
 
 
 def end(scene):
-    """Stop previewing: restore the objects' own transforms and the rigid body world."""
+    """Stop previewing: restore the objects' own transforms and display, and the rigid body world."""
     settings = scene.mwb
     if not settings.previewing:
         return False
     for item in settings.preview_saved:
         if item.target is not None:
-            m = item.matrix_basis
-            item.target.matrix_basis = Matrix([m[0:4], m[4:8], m[8:12], m[12:16]])
+            if not item.restored:
+                item.target.matrix_basis = _saved_matrix(item)
+            if item.display_type:
+                item.target.display_type = item.display_type
     settings.preview_saved.clear()
     if scene.rigidbody_world is not None:
         scene.rigidbody_world.enabled = settings.preview_rigidbody_enabled

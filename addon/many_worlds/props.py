@@ -30,9 +30,12 @@ class MWB_WorldItem(bpy.types.PropertyGroup):
 
 
 class MWB_SavedTransform(bpy.types.PropertyGroup):
-    """An object's own transform from before previewing, to put back when the preview ends."""
+    """An object's own transform and display from before previewing, to put back when the preview ends."""
     target: PointerProperty(type=bpy.types.Object)
     matrix_basis: FloatVectorProperty(size=16)
+    display_type: StringProperty(description="The object's display type ('' in files saved before it was kept)")
+    restored: BoolProperty(default=False, description="Already at its own transform (its body is not in the "
+                                                      "previewed world), which the user may change")
 
 
 def _on_world_list_index(self, context):

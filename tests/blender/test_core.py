@@ -1,7 +1,7 @@
 """The add-on's Blender-free helpers: array shaping for drawing and baking, engine progress lines."""
 import numpy as np
 
-from many_worlds.core import arrays, engine, paths
+from many_worlds.core import arrays, engine, family, paths
 
 
 def test_polyline_segments_join_consecutive_points_of_the_chosen_bodies():
@@ -39,3 +39,50 @@ def test_progress_lines_and_command():
     assert "--no-stop-at-rest" in argv and argv[argv.index("--duration") + 1] == "3.0"
     assert paths.scene_json_path("/a/shot.mwb") == "/a/shot.scene.json"
     assert paths.default_library_name("/x/shot.blend") == "shot.mwb"
+
+
+def test_change_bodies_command_adds_and_removes_by_name():
+    argv = engine.change_bodies_command("/e", "l.mwb", 3, ["Ball", "Cup"], [], "l.added.scene.json", 8, 2)
+    assert argv[:6] == ["/e", "refine", "--library", "l.mwb", "--world", "3"]
+    assert argv[argv.index("--add") + 1] == "Ball,Cup" and argv[argv.index("--scene") + 1] == "l.added.scene.json"
+    assert "--remove" not in argv and "--time" not in argv and "--bodies" not in argv
+    assert argv[argv.index("--count") + 1] == "8" and "--progress" in argv
+    argv = engine.change_bodies_command("/e", "l.mwb", 3, ["Box.001"], ["Box"], "s.json", 4, 0, first_child=100)
+    assert argv[argv.index("--remove") + 1] == "Box" and argv[argv.index("--first-child") + 1] == "100"
+    argv = engine.change_bodies_command("/e", "l.mwb", 3, [], ["Box"], "", 4, 0)
+    assert "--add" not in argv and "--scene" not in argv
+    for add, remove, scene, phrase in (([], [], "s.json", "nothing to add or remove"),
+                                       (["Ball"], [], "", "needs the scene JSON"),
+                                       (["a,b"], [], "s.json", "without commas")):
+        try:
+            engine.change_bodies_command("/e", "l.mwb", 3, add, remove, scene, 4, 0)
+        except ValueError as error:
+            assert phrase in str(error)
+        else:
+            raise AssertionError(f"no error for {add} {remove} {scene!r}")
+    assert paths.added_scene_json_path("/a/shot.mwb") == "/a/shot.added.scene.json"
+
+
+def test_lineage_steps_name_the_bodies_added_and_removed():
+    class Library:
+        def __init__(self, infos):
+            self.infos = infos
+
+        def world_info(self, world):
+            return self.infos[world]
+
+    sampled = {"parent_world": -1, "branch_time_s": 0.0, "root_world": 0, "lineage": []}
+    refined = {"parent_world": 0, "branch_time_s": 1.5, "root_world": 0, "lineage": [(1.5, 1, [2])]}
+    changed = {"parent_world": 1, "branch_time_s": 0.0, "root_world": 0,
+               "lineage": [(1.5, 1, [2], [], []), (0.0, 2, [], [3], [0, 2])]}
+    library = Library({0: sampled, 1: refined, 2: changed})
+    lines = {w: family.lineage_of(library, w) for w in (0, 1, 2)}
+    assert (lines[0].added, lines[0].removed) == ((), ())
+    assert (lines[1].added, lines[1].removed) == ((), ())
+    assert (lines[2].added, lines[2].removed) == ((3,), (0, 2))
+    names = ["Box", "Cup", "Plate", "Ball"]
+    assert family.relation_text(lines[0], names) == "sampled"
+    assert family.relation_text(lines[1], names) == "child of 0 at 1.50 s"
+    assert family.relation_text(lines[2], names) == "child of 1: +Ball -Box -Plate"
+    assert family.relation_text(lines[2]) == "child of 1: +3 -0 -2"
+    assert family.family(lines, 1) == {0: family.ROOT, 1: family.SELECTED, 2: family.CHILD}

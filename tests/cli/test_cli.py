@@ -1,6 +1,7 @@
 """The add-on's headless command line, run for real in `blender -b` on the quick-start example."""
 import json
 import os
+import shutil
 import signal
 import struct
 import subprocess
@@ -159,3 +160,28 @@ def test_ctrl_c_keeps_the_finished_worlds(tmp_path):
     lib = _native.Library(str(out))
     assert 5 <= len(lib.world_indices) < 3000
     assert lib.warnings == []
+
+
+def test_a_body_removed_from_worlds_is_skipped_and_may_be_deleted_from_the_blend(library, tmp_path):
+    sys.path.insert(0, os.path.join(ROOT, "addon"))
+    from many_worlds import _native
+    from many_worlds.core import paths
+    changed = tmp_path / "changed.mwb"
+    shutil.copy(library, changed)
+    subprocess.run([paths.engine_path(), "refine", "--library", str(changed), "--world", "3", "--remove", "Die",
+                    "--count", "2"], check=True, capture_output=True)
+    lib = _native.Library(str(changed))
+    children = [int(w) for w in lib.world_indices if lib.world_info(w)["parent_world"] == 3]
+    assert len(children) == 2
+    without_die = tmp_path / "without_die.blend"
+    subprocess.run(["blender", "-b", QUICKSTART, "--python-expr",
+                    f"import bpy; bpy.data.objects.remove(bpy.data.objects['Die']); "
+                    f"bpy.ops.wm.save_as_mainfile(filepath={str(without_die)!r})"], capture_output=True, check=True)
+    # The whole view: Die enters it in every world that has it, and in no other.
+    lines = output_lines(cli("query", str(changed), "--box", "0,0,1,1", "--objects", "Die", blend=str(without_die)))
+    assert lines[0] == "12 of 14 worlds match" and not set(children) & {int(w) for w in lines[1:]}
+    ranked = output_lines(cli("rank", str(changed), "--metric", "path_length_m", "--objects", "Die"))
+    assert sorted(int(line.split()[0]) for line in ranked) == list(range(12))
+    baked = output_lines(cli("bake", str(changed), "--world", str(children[0]), "--out", str(tmp_path / "b.blend")))
+    assert "onto 4 objects (hid Die: not in this world)" in baked[-1], baked
+    cli("preview", str(changed), "--worlds", f"{children[0]},3", "--out", str(tmp_path / "sheet.png"))

@@ -5,7 +5,8 @@ tool is started as the sidebar button starts it and a left-drag draws a box over
 path; on release the engine child refines the world and the children stream in through the
 timer poller while the UI runs. Their branch time is where Box0's path first enters the box (a
 direct PathIndex lookup through the region's view). A second refinement of a child is cancelled
-with Esc: the finished grandchildren stay. Exit code 0 = pass.
+with Esc: the finished grandchildren stay. Box2 is then removed from the child with Remove from
+Worlds, invoked as its button invokes it. Exit code 0 = pass.
 """
 import json
 import os
@@ -137,6 +138,27 @@ def steps():
                      if SESSION.view.lineages()[w].parent == child]
     assert 2 <= len(grandchildren) < 5000 and "cancelled" in SESSION.status, (len(grandchildren), SESSION.status)
     results["grandchildren_kept"] = len(grandchildren)
+
+    # Remove from Worlds as its button starts it: the children without Box2 stream in while the UI runs.
+    bpy.ops.mwb.select_world(world=child)
+    for ob in bpy.data.objects:
+        ob.select_set(ob.name == "Box2")
+    scene.mwb.refine_count = 3
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        assert bpy.ops.mwb.remove_from_worlds("INVOKE_DEFAULT") == {"RUNNING_MODAL"}
+    assert SESSION.run_label == "Removing", SESSION.status
+    while SESSION.engine is not None:
+        yield
+    assert SESSION.last_error == "", SESSION.last_error
+    box2 = SESSION.view.body_names.index("Box2")
+    without = [w for w in SESSION.view.world_indices if SESSION.view.lineages()[w].removed == (box2,)]
+    assert len(without) == 3 and not any(SESSION.view.present(w)[box2] for w in without), without
+    assert all(SESSION.view.lineages()[w].parent == child for w in without)
+    bpy.ops.mwb.select_world(world=without[0])
+    area.tag_redraw()
+    yield
+    viewport_helpers.screenshot(OUT_DIR, "removed.png")
+    results["removed_children"] = without
 
     # Go to Parent from a grandchild, then the refine panel as a popup (drawing errors fail run.sh).
     bpy.ops.mwb.select_world(world=grandchildren[0])

@@ -1,26 +1,43 @@
 """A world's family in a library with refined worlds: where it came from and what came of it.
 
 Sampled worlds are roots (parent -1). A refined world has one parent and a branch time; its
-ancestors lead back to one root. Browsing a family shows the root, every ancestor, the world
-itself and its children, so the user can compare refinements and walk back up. No bpy here.
+ancestors lead back to one root. A world made by adding or removing bodies is a child too,
+branching at 0 s, and its lineage step names the bodies added and removed. Browsing a family shows
+the root, every ancestor, the world itself and its children, so the user can compare refinements
+and walk back up. No bpy here.
 """
 from dataclasses import dataclass
+from typing import Tuple
 
 SELECTED, ROOT, ANCESTOR, CHILD = "SELECTED", "ROOT", "ANCESTOR", "CHILD"
 
 
 @dataclass(frozen=True)
 class Lineage:
-    """Where one world came from: parent -1 and branch 0 s for a sampled world."""
+    """Where one world came from: parent -1 and branch 0 s for a sampled world. `added` and
+    `removed` are the body indices the step that made this world added to or removed from its
+    parent (empty for sampled and plainly refined worlds)."""
     world: int
     parent: int
     branch_time_s: float
     root: int
+    added: Tuple[int, ...] = ()
+    removed: Tuple[int, ...] = ()
+
+
+def step_changes(step):
+    """(added, removed) body indices of one lineage step: (time_s, world, bodies[, added, removed])."""
+    added = tuple(int(b) for b in step[3]) if len(step) > 3 else ()
+    removed = tuple(int(b) for b in step[4]) if len(step) > 4 else ()
+    return added, removed
 
 
 def lineage_of(library, world):
     info = library.world_info(world)
-    return Lineage(int(world), int(info["parent_world"]), float(info["branch_time_s"]), int(info["root_world"]))
+    steps = [s for s in info.get("lineage", []) if int(s[1]) == int(world)]
+    added, removed = step_changes(steps[-1]) if steps else ((), ())
+    return Lineage(int(world), int(info["parent_world"]), float(info["branch_time_s"]), int(info["root_world"]),
+                   added, removed)
 
 
 def ancestors(lineages, world):
@@ -54,8 +71,16 @@ def depth(lineages, world):
     return len(ancestors(lineages, world))
 
 
-def relation_text(line):
-    """'sampled' or 'child of 4 at 1.50 s' for a list row."""
+def relation_text(line, body_names=None):
+    """'sampled', 'child of 4 at 1.50 s' or 'child of 4: +Ball -Box0' for a list row (body names
+    from `body_names`, indices without it)."""
     if line.parent < 0:
         return "sampled"
-    return f"child of {line.parent} at {line.branch_time_s:.2f} s"
+    if not line.added and not line.removed:
+        return f"child of {line.parent} at {line.branch_time_s:.2f} s"
+
+    def name(b):
+        return body_names[b] if body_names is not None and 0 <= b < len(body_names) else str(b)
+
+    changes = [f"+{name(b)}" for b in line.added] + [f"-{name(b)}" for b in line.removed]
+    return f"child of {line.parent}: {' '.join(changes)}"

@@ -2,6 +2,11 @@
 
 Queries (added on top of this) only change `matching`; drawing and lists read it. Every change of
 data or match state bumps `version` so cached GPU batches know when to rebuild.
+
+Bodies come from the library's current scene (`Library.scene_json`): the sampled scene plus every
+body added to worlds since, appended, so a body's index never changes. Not every body exists in
+every world: `present(world)` says which do (a body removed in a world's lineage, or added only
+in another family or later, is absent; its rows in the world's arrays are NaN).
 """
 import json
 
@@ -16,19 +21,30 @@ class LibraryView:
     def __init__(self, native, path):
         self.path = path
         self.library = native.Library(path)
-        self.scene = json.loads(self.library.header["scene_json"])
-        self.body_names = [b["name"] for b in self.scene.get("bodies", [])]
-        self.body_types = [b["type"] for b in self.scene.get("bodies", [])]
-        self.body_kinematic = [bool(b.get("kinematic", False)) for b in self.scene.get("bodies", [])]
-        world = self.scene.get("world", {})
-        self.frame_start = int(world.get("frame_start", 1))
-        self.fps = float(world.get("fps", 24.0))
         self.world_indices = []
         self.matching = np.zeros(0, dtype=bool)
         self.version = 0
+        self.scene_revision = 0
         self._decoded = {}
         self._lineages = {}
+        self._present = {}
+        self._read_scene()
+        world = self.scene.get("world", {})
+        self.frame_start = int(world.get("frame_start", 1))
+        self.fps = float(world.get("fps", 24.0))
         self._add_worlds()
+
+    def _read_scene(self):
+        """Body names, types and flags from the library's current scene (all bodies ever added)."""
+        self.scene_json = self.library.scene_json
+        self.scene = json.loads(self.scene_json)
+        bodies = self.scene.get("bodies", [])
+        self.body_names = [b["name"] for b in bodies]
+        self.body_types = [b["type"] for b in bodies]
+        self.body_kinematic = [bool(b.get("kinematic", False)) for b in bodies]
+        # Presence lists have one entry per body: computed again for the longer list.
+        self._present = {}
+        self.scene_revision += 1
 
     def _add_worlds(self):
         ids = list(self.library.world_indices)
@@ -41,9 +57,39 @@ class LibraryView:
         return added
 
     def poll(self):
-        """Read worlds the engine appended since the last call; returns how many arrived."""
+        """Read worlds (and bodies added to worlds) the engine appended since the last call;
+        returns how many worlds arrived."""
         self.library.poll()
+        if self.library.body_count != len(self.body_names):
+            self._read_scene()
+            self._decoded.clear()
+            self.version += 1
         return self._add_worlds()
+
+    def present(self, world):
+        """bool (bodies,): which bodies exist in `world`; read once per world and scene revision."""
+        if world not in self._present:
+            present = np.asarray(self.library.present(world), dtype=bool)
+            self._present[world] = (present, present.tobytes())
+        return self._present[world][0]
+
+    def present_bodies(self, world, bodies):
+        """The body indices of `bodies` that exist in `world`, in the given order."""
+        present = self.present(world)
+        return tuple(b for b in bodies if b < len(present) and present[b])
+
+    def presence_groups(self, worlds=None):
+        """[(present flags (bodies,), [world, ...]), ...]: `worlds` (default: every world, file
+        order) grouped by which bodies exist in them.
+
+        A library without added or removed bodies has one group; the worlds of a group are ranked
+        over the same bodies.
+        """
+        groups = {}
+        for world in (self.world_indices if worlds is None else worlds):
+            present = self.present(world)
+            groups.setdefault(self._present[world][1], (present, []))[1].append(world)
+        return list(groups.values())
 
     def lineages(self):
         """{world: core.family.Lineage} of every world; read once per world (worlds never change)."""
@@ -65,24 +111,26 @@ class LibraryView:
         self.version += 1
 
     def simulated_bodies(self):
-        """Indices of the bodies the simulation moves (ACTIVE, not animated)."""
+        """Indices of the bodies the simulation moves (ACTIVE, not animated), in any world."""
         return [i for i, (t, k) in enumerate(zip(self.body_types, self.body_kinematic)) if t == "ACTIVE" and not k]
 
     def world_summary(self, world):
-        """A few per-world numbers for lists: summed over the simulated bodies."""
+        """A few per-world numbers for lists: summed over the simulated bodies the world has."""
         metrics = self.library.metrics(world)
-        bodies = self.simulated_bodies()
+        bodies = self.present_bodies(world, self.simulated_bodies())
+        rest_times = self.library.rest_times(world)
 
         def total(name):
             values = metrics.get(name, [])
             return float(sum(values[i] for i in bodies if i < len(values)))
 
-        return {"rest_s": max((self.library.rest_times(world)[i] for i in bodies), default=0.0),
+        return {"rest_s": max((rest_times[i] for i in bodies if i < len(rest_times)), default=0.0),
                 "collisions": int(total("collision_count")),
                 "travel_m": total("path_length_m")}
 
     def decoded(self, world):
-        """(positions (bodies, frames, 3), orientations (bodies, frames, 4), record_hz), cached for one world."""
+        """(positions (bodies, frames, 3), orientations (bodies, frames, 4), record_hz), cached for one
+        world; rows of bodies absent from the world are NaN."""
         if world not in self._decoded:
             self._decoded.clear()
             info = self.library.world_info(world)

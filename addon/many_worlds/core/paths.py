@@ -28,3 +28,10 @@ def scene_json_path(library_path):
     """The exported scene sits next to the library: 'shot.mwb' -> 'shot.scene.json'."""
     root, _ = os.path.splitext(library_path)
     return root + ".scene.json"
+
+
+def added_scene_json_path(library_path):
+    """The scene exported to add bodies to worlds, apart from the sampled one: 'shot.mwb' ->
+    'shot.added.scene.json' (each addition rewrites it; the library keeps what it added)."""
+    root, _ = os.path.splitext(library_path)
+    return root + ".added.scene.json"

@@ -55,19 +55,34 @@ class QueryResult:
 
 
 class LibraryQuery:
-    """The path index of one LibraryView, the last evaluation and rankings over it."""
+    """The path index of one LibraryView, the last evaluation and rankings over it.
+
+    Bodies absent from a world (added elsewhere or later, or removed) never enter a box (the
+    index sees no path for them) and are left out of rankings: worlds are ranked in groups that
+    have the same bodies, and a world with none of the ranked bodies is not ranked.
+    """
 
     def __init__(self, native, view):
         self.native = native
         self.view = view
-        scene = native.Scene.from_json(view.library.header["scene_json"])
-        self.index = native.PathIndex(native.body_bounding_radii(scene))
         self.generation = 0
         self.result = None
+        self._new_index()
         self.sync()
 
+    def _new_index(self):
+        scene = self.native.Scene.from_json(self.view.scene_json)
+        self.index = self.native.PathIndex(self.native.body_bounding_radii(scene))
+        self.scene_revision = self.view.scene_revision
+
     def sync(self):
-        """Index the view's worlds that are not indexed yet (GIL released); returns how many."""
+        """Index the view's worlds that are not indexed yet (GIL released); returns how many.
+
+        Bodies added to the library since the index was built need an index with their radii,
+        so then every world is indexed anew.
+        """
+        if self.scene_revision != self.view.scene_revision:
+            self._new_index()
         if self.index.world_count == len(self.view.world_indices):
             return 0
         return self.index.add_library(self.view.library)
@@ -128,11 +143,23 @@ class LibraryQuery:
         if not bodies:
             return np.zeros(0, np.int64), np.zeros(0)
         only = [int(w) for w, m in zip(self.view.world_indices, self.view.matching) if m]
-        if not only:
-            return np.zeros(0, np.int64), np.zeros(0)
         if metric == "orientation_to_goal_rad" and goals is None:
             # The object's unrotated pose is the goal: 'land upright' for a model built upright.
             goals = [(1.0, 0.0, 0.0, 0.0)] * len(bodies)
-        ids, values = self.index.rank(metric, list(bodies), combine=combine, descending=descending,
-                                      only=only, goals=goals)
-        return np.asarray(ids, dtype=np.int64), np.asarray(values, dtype=np.float64)
+        ids, values = [], []
+        for present, worlds in self.view.presence_groups(only):
+            # Each group is ranked over the bodies its worlds have; a world with none is not ranked.
+            keep = [k for k, b in enumerate(bodies) if b < len(present) and present[b]]
+            if not keep:
+                continue
+            group_ids, group_values = self.index.rank(
+                metric, [bodies[k] for k in keep], combine=combine, descending=descending, only=worlds,
+                goals=[goals[k] for k in keep] if goals is not None else None)
+            ids.append(np.asarray(group_ids, dtype=np.int64))
+            values.append(np.asarray(group_values, dtype=np.float64))
+        if not ids:
+            return np.zeros(0, np.int64), np.zeros(0)
+        ids, values = np.concatenate(ids), np.concatenate(values)
+        # Ties keep world-index order, as within the index.
+        order = np.lexsort((ids, -values if descending else values))
+        return ids[order], values[order]

@@ -14,7 +14,7 @@ class Session:
         self.last_error = ""    # engine failure text, shown as a report
         self.sampling_scene = ""    # name of the scene being sampled
         self.sampling_library = ""  # absolute path the engine writes
-        self.run_label = "Sampling"  # what the engine run does: "Sampling" or "Refining"
+        self.run_label = "Sampling"  # what the engine run does: Sampling, Refining, Adding or Removing
 
     def close(self):
         if self.engine is not None:

@@ -1,10 +1,11 @@
 """The path overlay: every sampled path of the chosen bodies in the 3D viewport.
 
 Matching worlds are drawn bright, the others faint (and, with Family of Selected World on, every
-world outside that family), the selected world on top and wider. Batches
-are cached and rebuilt only when the library's data or match state (LibraryView.version), the
-chosen bodies or the selected world change; per-world line segments are cached too, so a new
-world costs only its own arrays.
+world outside that family), the selected world on top and wider. A body is drawn only in the
+worlds it exists in (bodies can be added to and removed from worlds). Batches are cached and
+rebuilt only when the library's data or match state (LibraryView.version), the chosen bodies or
+the selected world change; per-world line segments are cached too, so a new world costs only its
+own arrays.
 """
 import bpy
 import gpu
@@ -58,10 +59,12 @@ class PathOverlay:
 
     # --- batches ------------------------------------------------------------------------------
 
-    def _world_segments(self, view, world, bodies):
+    def world_segments(self, view, world, bodies):
+        """Line-list vertices of the paths of `bodies` that exist in `world` (cached)."""
         key = (world, bodies)
         if key not in self._segments:
-            self._segments[key] = arrays.polyline_segments(view.library.polyline(world), bodies)
+            self._segments[key] = arrays.polyline_segments(view.library.polyline(world),
+                                                           view.present_bodies(world, bodies))
         return self._segments[key]
 
     def _batch(self, parts):
@@ -78,14 +81,14 @@ class PathOverlay:
         for world, match in zip(view.world_indices, view.matching):
             match = match and (family is None or world in family)
             if world != selected:
-                (matching if match else rejected).append(self._world_segments(view, world, bodies))
+                (matching if match else rejected).append(self.world_segments(view, world, bodies))
         self._batches = []
         for parts, colour, width in ((rejected, REJECTED_COLOR, 1.0), (matching, MATCHING_COLOR, 1.0)):
             batch = self._batch(parts)
             if batch is not None:
                 self._batches.append((batch, colour, width))
         if selected in view.world_indices:
-            batch = self._batch([self._world_segments(view, selected, bodies)])
+            batch = self._batch([self.world_segments(view, selected, bodies)])
             if batch is not None:
                 self._batches.append((batch, SELECTED_COLOR, 2.0))
 

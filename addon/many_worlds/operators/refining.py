@@ -19,9 +19,9 @@ from . import sampling
 from .querying import BoxDrag, camera_of
 
 
-def selected_body_names(context, view):
-    """The selected objects the simulation moves, as library body names (file order of the scene)."""
-    simulated = {view.body_names[i] for i in view.simulated_bodies()}
+def selected_body_names(context, view, world):
+    """The selected objects the simulation moves in `world`, as library body names."""
+    simulated = {view.body_names[i] for i in view.present_bodies(world, view.simulated_bodies())}
     return [ob.name for ob in (getattr(context, "selected_objects", None) or []) if ob.name in simulated]
 
 
@@ -34,8 +34,8 @@ def refine_problem(context, world):
         return "Open or sample a library first"
     if world not in view.world_indices:
         return "Select a world to refine"
-    if not selected_body_names(context, view):
-        return "Select the objects to refine (bodies the simulation moves)"
+    if not selected_body_names(context, view, world):
+        return f"Select the objects to refine (bodies the simulation moves in world {world})"
     return ""
 
 
@@ -56,15 +56,9 @@ def start_refining(scene, world, body_names, time_s):
     argv = engine_process.refine_command(paths.engine_path(), view.path, world,
                                          queries.body_indices(body_names, view), time_s,
                                          settings.refine_count, settings.threads)
-    SESSION.engine = engine_process.EngineRun(argv)
-    SESSION.sampling_scene = scene.name
-    SESSION.sampling_library = view.path
-    SESSION.run_label = "Refining"
-    SESSION.last_error = ""
-    SESSION.status = (f"Refining {', '.join(body_names)} in world {world} from {time_s:.2f} s "
-                      f"into {settings.refine_count} worlds")
-    if not bpy.app.timers.is_registered(sampling.poll_sampling):
-        bpy.app.timers.register(sampling.poll_sampling, first_interval=sampling.POLL_INTERVAL_S)
+    sampling.start_run(scene, argv, view.path, "Refining",
+                       f"Refining {', '.join(body_names)} in world {world} from {time_s:.2f} s "
+                       f"into {settings.refine_count} worlds")
 
 
 def refine_through_box(operator, context, view_matrix, projection_matrix, size, rect):
@@ -74,7 +68,7 @@ def refine_through_box(operator, context, view_matrix, projection_matrix, size, 
     if problem:
         operator.report({"ERROR"}, problem)
         return False
-    names = selected_body_names(context, SESSION.view)
+    names = selected_body_names(context, SESSION.view, world)
     t_min = first_time_inside(SESSION.view, world, names, view_matrix, projection_matrix, size, rect)
     if t_min < 0:
         # Not an error of the tool: the user learns the box misses, and nothing runs.
@@ -146,7 +140,7 @@ class MWB_OT_refine_box(BoxDrag, bpy.types.Operator):
             return False
         if self.refine_count > 0:
             context.scene.mwb.refine_count = self.refine_count
-        self._bodies = selected_body_names(context, SESSION.view)
+        self._bodies = selected_body_names(context, SESSION.view, self._world)
         return True
 
     def _dragged(self, context, event):

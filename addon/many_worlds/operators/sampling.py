@@ -17,6 +17,9 @@ from ..core.session import SESSION
 from . import browsing
 
 POLL_INTERVAL_S = 0.25
+# What a finished run made, by SESSION.run_label; {done} is the count of new worlds.
+FINISHED_TEXT = {"Sampling": "Sampled {done} worlds", "Refining": "Refined into {done} worlds",
+                 "Adding": "Added into {done} new worlds", "Removing": "Removed from {done} new worlds"}
 
 
 def _set_status_text(text):
@@ -65,15 +68,24 @@ def start_sampling(context):
         engine, scene_json, library, settings.seed, first, settings.world_count, settings.threads,
         duration_s=settings.duration_s, stop_at_rest=settings.stop_at_rest, alpha=settings.alpha,
         position_error_m=settings.position_error_mm / 1000.0, rotation_error_deg=settings.rotation_error_deg)
+    start_run(scene, argv, library, "Sampling", f"Sampling worlds {first} to {first + settings.world_count - 1}")
+    return True, SESSION.status, result.problems
+
+
+def start_run(scene, argv, library, label, status):
+    """Start the engine child `argv` writing `library`; the poller streams its worlds into the view.
+
+    label: what the run does ("Sampling", "Refining", "Adding", "Removing"), for the panel and the
+    end of run message; status: the panel's line until the first progress arrives.
+    """
     SESSION.engine = engine_process.EngineRun(argv)
     SESSION.sampling_scene = scene.name
     SESSION.sampling_library = library
-    SESSION.run_label = "Sampling"
+    SESSION.run_label = label
     SESSION.last_error = ""
-    SESSION.status = f"Sampling worlds {first} to {first + settings.world_count - 1}"
+    SESSION.status = status
     if not bpy.app.timers.is_registered(poll_sampling):
         bpy.app.timers.register(poll_sampling, first_interval=POLL_INTERVAL_S)
-    return True, SESSION.status, result.problems
 
 
 def _stream_worlds(scene):
@@ -120,8 +132,8 @@ def poll_sampling():
     elif run.cancel_requested:
         SESSION.status = f"{SESSION.run_label} cancelled; the library keeps {stored} worlds"
     else:
-        verb = "Sampled" if SESSION.run_label == "Sampling" else "Refined into"
-        SESSION.status = f"{verb} {done} worlds; the library holds {stored}"
+        made = FINISHED_TEXT.get(SESSION.run_label, "{done} new worlds").format(done=done)
+        SESSION.status = f"{made}; the library holds {stored}"
     SESSION.engine = None
     _set_status_text(None)
     browsing.tag_redraw_all()
@@ -146,23 +158,13 @@ def stop_for_unregister():
         SESSION.engine = None
 
 
-class MWB_OT_sample(bpy.types.Operator):
-    """Sample plausible worlds of the rigid body scene into the library (runs the engine in the background)"""
-    bl_idname = "mwb.sample"
-    bl_label = "Sample Worlds"
+class FollowsEngineRun:
+    """The operator side of a button that starts an engine run. A subclass implements
+    `_start(context)` (True when the run started; it reports why not). execute only starts the
+    run; invoke (a button press) also stays modal to let Esc cancel and to report the end, while
+    the timer poller does the work."""
 
     _timer = None
-
-    @classmethod
-    def poll(cls, context):
-        return SESSION.engine is None and context.scene.rigidbody_world is not None
-
-    def _start(self, context):
-        ok, message, problems = start_sampling(context)
-        for line in problems:
-            self.report({"WARNING"}, line)
-        self.report({"INFO"} if ok else {"ERROR"}, message)
-        return ok
 
     def execute(self, context):
         return {"FINISHED"} if self._start(context) else {"CANCELLED"}
@@ -170,7 +172,6 @@ class MWB_OT_sample(bpy.types.Operator):
     def invoke(self, context, event):
         if not self._start(context):
             return {"CANCELLED"}
-        # Modal only to catch Esc and report the end; the timer poller does the work.
         self._timer = context.window_manager.event_timer_add(POLL_INTERVAL_S, window=context.window)
         context.window_manager.modal_handler_add(self)
         return {"RUNNING_MODAL"}
@@ -188,8 +189,25 @@ class MWB_OT_sample(bpy.types.Operator):
         return {"FINISHED"}
 
 
+class MWB_OT_sample(FollowsEngineRun, bpy.types.Operator):
+    """Sample plausible worlds of the rigid body scene into the library (runs the engine in the background)"""
+    bl_idname = "mwb.sample"
+    bl_label = "Sample Worlds"
+
+    @classmethod
+    def poll(cls, context):
+        return SESSION.engine is None and context.scene.rigidbody_world is not None
+
+    def _start(self, context):
+        ok, message, problems = start_sampling(context)
+        for line in problems:
+            self.report({"WARNING"}, line)
+        self.report({"INFO"} if ok else {"ERROR"}, message)
+        return ok
+
+
 class MWB_OT_cancel_sampling(bpy.types.Operator):
-    """Stop sampling or refining; every finished world stays in the library"""
+    """Stop sampling, refining, adding or removing; every finished world stays in the library"""
     bl_idname = "mwb.cancel_sampling"
     bl_label = "Cancel Sampling"
 

@@ -31,9 +31,9 @@ def family_rows(settings, items):
 
 
 class MWB_UL_worlds(bpy.types.UIList):
-    """One row per world: index, where it came from (refined worlds), when it came to rest,
-    collisions, how far the bodies travelled. With Family of Selected World on, only the selected
-    world's root, ancestors and children are listed, indented by generation."""
+    """One row per world: index, where it came from (refined worlds, objects added or removed),
+    when it came to rest, collisions, how far the bodies travelled. With Family of Selected World
+    on, only the selected world's root, ancestors and children are listed, indented by generation."""
 
     def filter_items(self, context, data, propname):
         rows = family_rows(context.scene.mwb, getattr(data, propname))
@@ -54,7 +54,7 @@ class MWB_UL_worlds(bpy.types.UIList):
             row.separator(factor=1.5 * core_family.depth(lineages, item.world_index))
         row.label(text=f"World {item.world_index}", icon=_RELATION_ICONS.get(relation, "NONE"))
         if line is not None and line.parent >= 0:
-            row.label(text=core_family.relation_text(line))
+            row.label(text=core_family.relation_text(line, view.body_names))
         row.label(text=f"rest {item.rest_s:.2f} s")
         row.label(text=f"{item.collisions} hits")
         row.label(text=f"{item.travel_m:.2f} m")

@@ -97,6 +97,12 @@ class MWB_PT_refine(LibraryPanel, bpy.types.Panel):
             world = settings.selected_world
             layout.label(text=f"Objects selected in world {world}, then drag over the path to change"
                          if world >= 0 else "Select a world and objects first", icon="MOUSE_LMB_DRAG")
+            col = layout.column(align=True)
+            col.operator("mwb.add_to_worlds", icon="ADD")
+            col.operator("mwb.remove_from_worlds", icon="REMOVE")
+            col = layout.column(align=True)
+            col.label(text="New worlds of this one with the selected objects", icon="INFO")
+            col.label(text="from the start, or without them (and deleted ones)")
         else:
             layout.operator("mwb.cancel_sampling", text=f"Cancel {SESSION.run_label}", icon="CANCEL")
             layout.label(text=SESSION.status, icon="INFO")

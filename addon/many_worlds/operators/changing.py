@@ -1,0 +1,167 @@
+"""Add Selected to Worlds / Remove from Worlds: change which objects exist in the selected world.
+
+After sampling, the user places a new object (or deletes one, or picks one) and asks for worlds
+with it (or without it): `mwb-engine refine --add / --remove` appends children of the selected
+world in which the objects exist from 0 s (or not at all); whatever they touch (or touched) is
+simulated anew, and every other body replays the world bit for bit. The run goes through the
+sampling poller like a refinement: children stream into the list and the viewport as they land,
+Esc / Cancel keeps the finished ones, and only one engine run exists at a time.
+"""
+import bpy
+
+from .. import export, preview
+from ..core import engine as engine_process
+from ..core import paths
+from ..core.session import SESSION
+from .sampling import FollowsEngineRun, start_run
+
+
+def _world_problem(scene):
+    """Why no world can be changed now (one line), or ''."""
+    view = SESSION.view
+    if SESSION.engine is not None:
+        return f"{SESSION.run_label} is running; wait for it or cancel it first"
+    if view is None:
+        return "Open or sample a library first"
+    if scene.mwb.selected_world not in view.world_indices:
+        return "Select a world first"
+    return ""
+
+
+def _in_world(view, world):
+    """Names of the library bodies that exist in `world`."""
+    present = view.present(world)
+    return [name for i, name in enumerate(view.body_names) if present[i]]
+
+
+def _selected(context):
+    return sorted(getattr(context, "selected_objects", None) or [], key=lambda ob: ob.name)
+
+
+def bodies_to_add(context):
+    """(names, problem): the selected objects to add to the selected world, or why they cannot be."""
+    problem = _world_problem(context.scene)
+    if problem:
+        return [], problem
+    world = context.scene.mwb.selected_world
+    selected = _selected(context)
+    if not selected:
+        return [], "Select the objects to add (objects with a rigid body that are not in the world)"
+    in_world = set(_in_world(SESSION.view, world))
+    for ob in selected:
+        if ob.rigid_body is None:
+            return [], f"{ob.name} has no rigid body (Physics > Rigid Body)"
+        if ob.name in in_world:
+            return [], f"{ob.name} is already in world {world}"
+    return [ob.name for ob in selected], ""
+
+
+def bodies_to_remove(context):
+    """(names, deleted, problem): the bodies to remove from the selected world (the selected objects
+    in it, then bodies in it whose objects are gone from the scene), those of them that are gone,
+    or why there are none."""
+    problem = _world_problem(context.scene)
+    if problem:
+        return [], [], problem
+    world = context.scene.mwb.selected_world
+    selected = {ob.name for ob in _selected(context)}
+    in_world = _in_world(SESSION.view, world)
+    deleted = [name for name in in_world if name not in context.scene.objects]
+    names = [name for name in in_world if name in selected] + deleted
+    if not names:
+        if selected:
+            return [], [], f"None of the selected objects is in world {world}"
+        return [], [], f"Select the objects to remove from world {world} (or delete them from the scene)"
+    return names, deleted, ""
+
+
+def _start(scene, world, add_names, remove_names, scene_json, label, status):
+    """Build the engine command and start the run; returns '' or why it could not start."""
+    settings = scene.mwb
+    view = SESSION.view
+    try:
+        argv = engine_process.change_bodies_command(paths.engine_path(), view.path, world, add_names, remove_names,
+                                                    scene_json, settings.refine_count, settings.threads)
+        start_run(scene, argv, view.path, label, status)
+    except (ValueError, OSError) as error:
+        return str(error)
+    return ""
+
+
+def start_adding(context):
+    """Export the scene and start adding the selected objects. Returns (ok, message, warnings)."""
+    names, problem = bodies_to_add(context)
+    if problem:
+        return False, problem, []
+    scene = context.scene
+    # Export the user's scene, not the preview's poses.
+    preview.end(scene)
+    result, invalid = export.export_and_validate(context)
+    if result.scene is None or invalid:
+        return False, "The scene cannot be exported: " + "; ".join(invalid or result.problems), []
+    warnings = [line for line in result.problems if line.split(":")[0] in names]
+    exported = {body["name"] for body in result.scene["bodies"]}
+    outside = [name for name in names if name not in exported]
+    if outside:
+        return False, f"{outside[0]} is not in the scene's Rigid Body World collection", warnings
+    # Next to the library, apart from the sampled scene's file, which stays as it was sampled.
+    scene_json = paths.added_scene_json_path(SESSION.view.path)
+    try:
+        with open(scene_json, "w") as f:
+            f.write(result.to_json())
+    except OSError as error:
+        return False, f"Cannot write {scene_json}: {error.strerror}", warnings
+    world, count = scene.mwb.selected_world, scene.mwb.refine_count
+    problem = _start(scene, world, names, [], scene_json, "Adding",
+                     f"Adding {', '.join(names)} to world {world} in {count} new worlds")
+    return not problem, problem or SESSION.status, warnings
+
+
+def start_removing(context):
+    """Start removing the chosen bodies from the selected world. Returns (ok, message)."""
+    names, deleted, problem = bodies_to_remove(context)
+    if problem:
+        return False, problem
+    scene = context.scene
+    world, count = scene.mwb.selected_world, scene.mwb.refine_count
+    shown = [f"{name} (deleted from the scene)" if name in deleted else name for name in names]
+    problem = _start(scene, world, [], names, "", "Removing",
+                     f"Removing {', '.join(shown)} from world {world} in {count} new worlds")
+    return not problem, problem or SESSION.status
+
+
+class MWB_OT_add_to_worlds(FollowsEngineRun, bpy.types.Operator):
+    """New worlds from the selected world in which the selected objects exist from the start: what
+    they touch is simulated anew, everything else replays the world (Esc cancels; finished worlds stay)"""
+    bl_idname = "mwb.add_to_worlds"
+    bl_label = "Add Selected to Worlds"
+
+    @classmethod
+    def poll(cls, context):
+        return SESSION.engine is None
+
+    def _start(self, context):
+        ok, message, warnings = start_adding(context)
+        for line in warnings:
+            self.report({"WARNING"}, line)
+        self.report({"INFO"} if ok else {"ERROR"}, message)
+        return ok
+
+
+class MWB_OT_remove_from_worlds(FollowsEngineRun, bpy.types.Operator):
+    """New worlds from the selected world without the selected objects, and without objects deleted
+    from the scene since: what they touched is simulated anew (Esc cancels; finished worlds stay)"""
+    bl_idname = "mwb.remove_from_worlds"
+    bl_label = "Remove from Worlds"
+
+    @classmethod
+    def poll(cls, context):
+        return SESSION.engine is None
+
+    def _start(self, context):
+        ok, message = start_removing(context)
+        self.report({"INFO"} if ok else {"ERROR"}, message)
+        return ok
+
+
+classes = (MWB_OT_add_to_worlds, MWB_OT_remove_from_worlds)
