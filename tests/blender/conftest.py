@@ -127,5 +127,21 @@ def sample_and_wait(count, timeout_s=180, **settings):
     return SESSION
 
 
+def cancel_after_finished(count=2, timeout_s=60):
+    """Let the running engine child finish `count` worlds, press Cancel, and pump the poller until
+    the run has ended."""
+    from many_worlds.core.session import SESSION
+    from many_worlds.operators import sampling
+    deadline = time.monotonic() + timeout_s
+    while SESSION.engine.progress()[0] < count:
+        assert time.monotonic() < deadline, f"the engine did not finish {count} worlds in time"
+        sampling.poll_sampling()
+        time.sleep(0.05)
+    assert bpy.ops.mwb.cancel_sampling() == {"FINISHED"}
+    while sampling.poll_sampling() is not None:
+        assert time.monotonic() < deadline, "the engine did not stop in time"
+        time.sleep(0.05)
+
+
 def degrees(radians):
     return radians * 180 / math.pi

@@ -13,7 +13,7 @@ import bpy
 import numpy as np
 import pytest
 
-from conftest import add_rigid_body, mesh_object, sample_and_wait, save_blend
+from conftest import add_rigid_body, cancel_after_finished, mesh_object, sample_and_wait, save_blend
 from test_queries import PROJECTION, SIZE, VIEW, add_box, matching_worlds, to_screen
 from test_refining import pump, select_only
 
@@ -360,13 +360,7 @@ def test_cancel_keeps_the_finished_worlds_of_a_removal(tmp_path):
     mwb.refine_count, mwb.threads = 5000, 1
     assert bpy.ops.mwb.remove_from_worlds() == {"FINISHED"}
     assert SESSION.run_label == "Removing" and not bpy.ops.mwb.sample.poll()
-    deadline = time.monotonic() + 60
-    while SESSION.engine.progress()[0] < 2:
-        assert time.monotonic() < deadline
-        sampling.poll_sampling()
-        time.sleep(0.05)
-    assert bpy.ops.mwb.cancel_sampling() == {"FINISHED"}
-    pump()
+    cancel_after_finished(2)
     assert SESSION.engine is None and SESSION.last_error == ""
     assert "Removing cancelled" in SESSION.status
     children = [w for w in SESSION.view.world_indices if w != world]

@@ -7,7 +7,7 @@ import bpy
 import numpy as np
 import pytest
 
-from conftest import drop_scene, sample_and_wait, save_blend
+from conftest import cancel_after_finished, drop_scene, sample_and_wait, save_blend
 from test_queries import PROJECTION, SIZE, VIEW, to_screen
 
 from many_worlds import _native
@@ -170,13 +170,7 @@ def test_cancel_keeps_finished_children_and_allows_one_run_at_a_time(tmp_path):
     assert refine(rect_around(world, "Box0", 0.2)) == {"FINISHED"}
     # One engine run at a time: neither sampling nor another refinement can start now.
     assert not bpy.ops.mwb.sample.poll() and not bpy.ops.mwb.refine.poll()
-    deadline = time.monotonic() + 60
-    while SESSION.engine.progress()[0] < 2:
-        assert time.monotonic() < deadline
-        sampling.poll_sampling()
-        time.sleep(0.05)
-    assert bpy.ops.mwb.cancel_sampling() == {"FINISHED"}
-    pump()
+    cancel_after_finished(2)
     assert SESSION.engine is None and SESSION.last_error == ""
     assert "Refining cancelled" in SESSION.status
     children = [w for w in SESSION.view.world_indices if w != world]

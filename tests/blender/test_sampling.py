@@ -1,17 +1,15 @@
 """Sampling through the Sample operator: the engine runs as a child process, worlds stream into the
 open library and the world list, cancel keeps what finished, and a second press adds worlds."""
 import os
-import time
 
 import bpy
 import numpy as np
 import pytest
 
-from conftest import drop_scene, sample_and_wait, save_blend
+from conftest import cancel_after_finished, drop_scene, sample_and_wait, save_blend
 
 from many_worlds import _native
 from many_worlds.core.session import SESSION
-from many_worlds.operators import sampling
 
 
 def test_sample_writes_a_library_next_to_the_blend_and_lists_its_worlds(tmp_path):
@@ -58,15 +56,7 @@ def test_cancel_stops_the_engine_and_keeps_finished_worlds(tmp_path):
     mwb = bpy.context.scene.mwb
     mwb.world_count, mwb.threads, mwb.stop_at_rest = 5000, 1, False
     assert bpy.ops.mwb.sample() == {"FINISHED"}
-    deadline = time.monotonic() + 60
-    while SESSION.engine.progress()[0] < 2:
-        assert time.monotonic() < deadline
-        sampling.poll_sampling()
-        time.sleep(0.05)
-    assert bpy.ops.mwb.cancel_sampling() == {"FINISHED"}
-    while sampling.poll_sampling() is not None:
-        assert time.monotonic() < deadline
-        time.sleep(0.05)
+    cancel_after_finished(2)
     assert SESSION.engine is None and SESSION.last_error == ""
     kept = SESSION.view.world_indices
     assert 2 <= len(kept) < 5000
