@@ -57,7 +57,8 @@ const char* engine_usage() {
            "                    [--position-error METRES] [--rotation-error DEGREES] [--progress]\n"
            "  mwb-engine refine --library LIB.mwb --world W --bodies I,J --time SECONDS [--count N]\n"
            "                    [--first-child K] [--threads T] [--progress]\n"
-           "  mwb-engine refine --library LIB.mwb --world W [--add NAME,... --scene SCENE.json] [--remove NAME,...]\n"
+           "  mwb-engine refine --library LIB.mwb --world W [--add NAME,...] [--update NAME,...] [--scene SCENE.json]\n"
+           "                    [--remove NAME,...]\n"
            "                    [--count N] [--first-child K] [--threads T] [--progress]\n"
            "  mwb-engine info LIB.mwb [--json]\n"
            "  mwb-engine merge OUT.mwb LIB.mwb...\n"
@@ -95,6 +96,7 @@ EngineOptions parse_engine_options(const std::vector<std::string>& args) {
         else if (flag == "--first-child") options.first_child = static_cast<int64_t>(parse_count(flag, value()));
         else if (flag == "--add") options.add_bodies = parse_names(flag, value());
         else if (flag == "--remove") options.remove_bodies = parse_names(flag, value());
+        else if (flag == "--update") options.update_bodies = parse_names(flag, value());
         else if (flag == "--bodies") {
             const std::string list = value();
             size_t start = 0;
@@ -114,14 +116,15 @@ EngineOptions parse_engine_options(const std::vector<std::string>& args) {
             throw UsageError("codec error bounds must be positive");
     } else if (options.command == "refine") {
         if (options.output_path.empty()) throw UsageError("refine needs --library");
-        const bool changes_scene = !options.add_bodies.empty() || !options.remove_bodies.empty();
+        const bool changes_scene =
+            !options.add_bodies.empty() || !options.remove_bodies.empty() || !options.update_bodies.empty();
         if (changes_scene) {
             if (!options.bodies.empty() || options.branch_time_s >= 0)
-                throw UsageError("--add and --remove act from t = 0 on their own; refine the new worlds afterwards");
-            if (!options.add_bodies.empty() && options.scene_path.empty())
-                throw UsageError("--add needs --scene (the scene that defines the added bodies)");
+                throw UsageError("--add, --remove and --update act from t = 0 on their own; refine the new worlds afterwards");
+            if ((!options.add_bodies.empty() || !options.update_bodies.empty()) && options.scene_path.empty())
+                throw UsageError("--add and --update need --scene (the scene that defines the objects)");
         } else {
-            if (options.bodies.empty()) throw UsageError("refine needs --bodies (or --add / --remove)");
+            if (options.bodies.empty()) throw UsageError("refine needs --bodies (or --add / --remove / --update)");
             if (options.branch_time_s < 0) throw UsageError("refine needs --time (seconds, >= 0)");
         }
         if (options.world_count == 0) throw UsageError("--count must be at least 1");

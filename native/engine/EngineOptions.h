@@ -31,7 +31,8 @@ struct EngineOptions {
     double branch_time_s = -1;          ///< refine: where the new worlds leave the parent
     int64_t first_child = -1;           ///< refine: index of the first new world (-1: after the last)
     std::vector<std::string> add_bodies;     ///< refine: bodies of --scene to add to the world
-    std::vector<std::string> remove_bodies;  ///< refine: bodies to remove from the world
+    std::vector<std::string> remove_bodies;  ///< refine: objects to remove from the world
+    std::vector<std::string> update_bodies;  ///< refine: objects of the world to redefine from --scene
     bool progress = false;
     SimulationParameters parameters;
     CodecBounds bounds;

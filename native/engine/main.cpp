@@ -68,17 +68,22 @@ struct SceneChange {
     std::vector<uint32_t> added, removed;
 };
 
-SceneChange change_scene(const LibraryReader& reader, const EngineOptions& options) {
+SceneChange change_scene(const LibraryReader& reader, const StoredWorld& parent, const EngineOptions& options) {
     SceneChange change{scene_from_json(reader.scene_json())};
-    if (!options.add_bodies.empty()) {
-        const size_t bodies = change.scene.bodies.size(), constraints = change.scene.constraints.size();
-        change.added = append_bodies(change.scene, load_scene_file(options.scene_path), options.add_bodies);
-        change.revised = change.scene.bodies.size() != bodies || change.scene.constraints.size() != constraints;
-    }
-    for (const std::string& name : options.remove_bodies) {
-        const int index = change.scene.body_index(name);
-        if (index < 0) throw UsageError("--remove: no body '" + name + "' in " + options.output_path);
-        change.removed.push_back(static_cast<uint32_t>(index));
+    if (options.add_bodies.empty() && options.remove_bodies.empty() && options.update_bodies.empty()) return change;
+    std::vector<uint8_t> present(change.scene.bodies.size(), 0);
+    for (size_t i = 0; i < parent.tracks.size() && i < present.size(); ++i) present[i] = parent.tracks[i].present;
+    const Scene source = options.scene_path.empty() ? Scene{} : load_scene_file(options.scene_path);
+    try {
+        const BodyChanges changes = change_bodies(change.scene, present, source, options.add_bodies,
+                                                  options.remove_bodies, options.update_bodies);
+        change.added = changes.added;
+        change.removed = changes.removed;
+        change.revised = changes.scene_grew;
+    } catch (const SceneChangeError& error) {
+        std::string message = error.what();
+        std::replace(message.begin(), message.end(), '\n', ';');
+        throw UsageError("world " + std::to_string(parent.world_index) + ": " + message);
     }
     return change;
 }
@@ -95,8 +100,12 @@ std::string describe_change(const EngineOptions& options, const SceneChange& cha
         for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
         return out;
     };
-    if (!change.added.empty()) text += "adding " + list(options.add_bodies);
-    if (!change.removed.empty()) text += (text.empty() ? "" : " and ") + std::string("removing ") + list(options.remove_bodies);
+    auto join = [&](const char* verb, const std::vector<std::string>& names) {
+        if (!names.empty()) text += (text.empty() ? "" : ", ") + std::string(verb) + " " + list(names);
+    };
+    join("adding", options.add_bodies);
+    join("removing", options.remove_bodies);
+    join("updating", options.update_bodies);
     return text;
 }
 
@@ -106,10 +115,6 @@ std::string describe_change(const EngineOptions& options, const SceneChange& cha
 int run_refine(const EngineOptions& options) {
     const LibraryReader reader(options.output_path);
     const RunHeader& header = reader.header();
-    SceneChange change = change_scene(reader, options);
-    const size_t sampled_bodies = scene_from_json(header.scene_json).bodies.size();
-    const Scene scene = change.scene;
-    CompiledScene compiled(std::move(change.scene), header.parameters, sampled_bodies);
     const StoredWorld* parent = nullptr;
     uint64_t next_index = 0;
     for (const StoredWorld& w : reader.worlds()) {
@@ -118,6 +123,10 @@ int run_refine(const EngineOptions& options) {
     }
     for (const StoredRejection& r : reader.rejections()) next_index = std::max(next_index, r.world_index + 1);
     if (!parent) throw UsageError("no world " + std::to_string(options.parent_world) + " in " + options.output_path);
+    SceneChange change = change_scene(reader, *parent, options);
+    const size_t sampled_bodies = scene_from_json(header.scene_json).bodies.size();
+    const Scene scene = change.scene;
+    CompiledScene compiled(std::move(change.scene), header.parameters, sampled_bodies);
     const uint64_t root = parent->lineage.empty() ? parent->world_index : parent->root_world;
     std::vector<WorldResult> chain = simulate_lineage(compiled, header.base_seed, root, parent->lineage);
     if (chain.back().frame_count != parent->frame_count || chain.back().contacts.size() != parent->contacts.size())

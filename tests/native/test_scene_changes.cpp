@@ -16,6 +16,7 @@
 #include "library/WorldDecoding.h"
 #include "sampler/Sampler.h"
 #include "scene/SceneAddition.h"
+#include "scene/SceneJson.h"
 #include "sim/CompiledScene.h"
 #include "sim/WorldSimulator.h"
 
@@ -224,17 +225,46 @@ TEST(SceneChanges, ImpossibleChangesAreRefusedWithAReason) {
     EXPECT_EQ(reason({0, 9, {}, {kBall}, {kLower}}), "");
 }
 
-TEST(SceneChanges, AppendingBodiesKeepsIndicesAndRefusesConflicts) {
+TEST(SceneChanges, ChangesOnALibrarySceneKeepIndicesAndGiveChangedObjectsBodiesOfTheirOwn) {
     Scene library = stack();
-    const Scene exported = stack_with_ball();
-    EXPECT_EQ(append_bodies(library, exported, {"Ball"}), std::vector<uint32_t>{kBall});
+    const std::vector<uint8_t> sampled_world{1, 1, 1, 1};
+    Scene exported = stack_with_ball();
+    BodyChanges added = change_bodies(library, sampled_world, exported, {"Ball"}, {}, {});
+    EXPECT_EQ(added.added, std::vector<uint32_t>{kBall});
+    EXPECT_TRUE(added.scene_grew);
     EXPECT_EQ(library.bodies.size(), 5u);
-    EXPECT_EQ(append_bodies(library, exported, {"Ball"}), std::vector<uint32_t>{kBall}) << "added before: same body";
-    Scene moved = exported;
-    moved.bodies[kBall].initial.location[0] = 1;
-    EXPECT_THROW(append_bodies(library, moved, {"Ball"}), SceneError);
-    EXPECT_THROW(append_bodies(library, exported, {"Nothing"}), SceneError);
-    Scene jointed = exported;
+    // Another world gains the same ball: the same body, the scene does not grow.
+    BodyChanges again = change_bodies(library, sampled_world, exported, {"Ball"}, {}, {});
+    EXPECT_EQ(again.added, std::vector<uint32_t>{kBall});
+    EXPECT_FALSE(again.scene_grew);
+    // Upper moved in the export: updating it removes its body and adds one for the new definition.
+    exported.bodies[kUpper].initial.location = {1, 0, 0.2};
+    const BodyChanges updated = change_bodies(library, {1, 1, 1, 1, 1}, exported, {}, {}, {"Upper"});
+    EXPECT_EQ(updated.removed, std::vector<uint32_t>{kUpper});
+    ASSERT_EQ(updated.added, std::vector<uint32_t>{5});
+    EXPECT_EQ(library.bodies[5].name, "Upper#2");
+    EXPECT_EQ(object_of(library.bodies[5]), "Upper");
+    EXPECT_EQ(library.bodies[5].initial.location, (Vec3{1, 0, 0.2}));
+    // A world that has the new Upper: removing "Upper" removes that body.
+    Scene copy = library;
+    EXPECT_EQ(change_bodies(copy, {1, 1, 0, 1, 1, 1}, exported, {}, {"Upper"}, {}).removed, std::vector<uint32_t>{5});
+    auto problem = [&](const std::vector<uint8_t>& present, const std::vector<std::string>& add,
+                       const std::vector<std::string>& remove, const std::vector<std::string>& update) {
+        Scene scratch = library;
+        try {
+            change_bodies(scratch, present, exported, add, remove, update);
+        } catch (const SceneChangeError& error) {
+            return std::string(error.what());
+        }
+        return std::string();
+    };
+    const std::vector<uint8_t> all{1, 1, 1, 1, 1, 0};
+    EXPECT_NE(problem(all, {"Upper"}, {}, {}).find("'Upper' is already in the world"), std::string::npos);
+    EXPECT_NE(problem(all, {"Nothing"}, {}, {}).find("not in the exported scene"), std::string::npos);
+    EXPECT_NE(problem(all, {}, {"Nothing"}, {}).find("'Nothing' is not in the world"), std::string::npos);
+    EXPECT_NE(problem(all, {}, {}, {"Far"}).find("'Far' is unchanged"), std::string::npos);
+    EXPECT_NE(problem({1, 1, 1, 1, 0, 0}, {}, {}, {"Ball"}).find("add it instead"), std::string::npos);
+    Scene jointed = stack_with_ball();
     Constraint c;
     c.name = "ToGhost";
     c.body_a = "Ball";
@@ -242,11 +272,29 @@ TEST(SceneChanges, AppendingBodiesKeepsIndicesAndRefusesConflicts) {
     jointed.constraints.push_back(c);
     Scene fresh = stack();
     try {
-        append_bodies(fresh, jointed, {"Ball"});
+        change_bodies(fresh, sampled_world, jointed, {"Ball"}, {}, {});
         FAIL() << "a constraint to an unknown body was accepted";
-    } catch (const SceneError& error) {
+    } catch (const SceneChangeError& error) {
         EXPECT_NE(std::string(error.what()).find("constraint 'ToGhost'"), std::string::npos);
     }
+}
+
+TEST(SceneChanges, UpdatingAnObjectMovesItAndWakesWhatItLeft) {
+    Scene library = stack();
+    Scene exported = stack();
+    exported.bodies[kUpper].initial.location = {1, 0, 0.2};
+    const BodyChanges changes = change_bodies(library, {1, 1, 1, 1}, exported, {}, {}, {"Upper"});
+    CompiledScene compiled(library, full_length(), stack().bodies.size());
+    const std::vector<WorldResult> chain = simulate_lineage(compiled, 7, 0, {});
+    const WorldResult child = refine_world(compiled, 7, chain, {0, 10, {}, changes.added, changes.removed});
+    ASSERT_EQ(child.status, WorldStatus::Ok) << child.reject_reason;
+    const uint32_t moved = changes.added.front();
+    EXPECT_EQ(child.present[kUpper], 0);
+    EXPECT_EQ(child.present[moved], 1);
+    EXPECT_LT(norm(sub(final_position(child, moved), {1, 0, 0.2})), 0.01) << "the new Upper stands where it was moved";
+    EXPECT_EQ(child.changed[kLower], 1) << "the old Upper's ghost wakes the box it stood on";
+    EXPECT_LT(norm(sub(final_position(child, kLower), {0, 0, 0.2})), 0.01) << "which stays where it was";
+    EXPECT_TRUE(same_track(child, chain.back(), kFar));
 }
 
 class SceneChangeLibrary : public ::testing::Test {

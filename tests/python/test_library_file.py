@@ -279,19 +279,47 @@ def test_adding_and_removing_mistakes_are_clear_errors(engine, tmp_path):
     out = tmp_path / "m.mwb"
     sample(engine, out, "--worlds", "0:1")
     pebble_scene = scene_with_pebble(tmp_path)
-    with open(pebble_scene) as f:
-        moved = json.load(f)
-    moved["bodies"][-1]["initial"]["location"] = [3.0, 4.0, 1.0]
-    moved_scene = tmp_path / "moved.json"
-    moved_scene.write_text(json.dumps(moved))
     run_engine(engine, "refine", "--library", str(out), "--world", "0", "--add", "Pebble", "--scene", pebble_scene,
                "--count", "1")
-    for args, phrase in ((["--world", "0", "--add", "Pebble"], "--add needs --scene"),
+    for args, phrase in ((["--world", "0", "--add", "Pebble"], "need --scene"),
                          (["--world", "0", "--add", "Nothing", "--scene", pebble_scene], "'Nothing': not in the exported scene"),
-                         (["--world", "0", "--add", "Die", "--scene", pebble_scene], "already in world 0"),
-                         (["--world", "0", "--remove", "Nothing"], "no body 'Nothing'"),
-                         (["--world", "0", "--remove", "Pebble"], "not in world 0"),
+                         (["--world", "0", "--add", "Die", "--scene", pebble_scene], "'Die' is already in the world"),
+                         (["--world", "0", "--remove", "Nothing"], "'Nothing' is not in the world"),
+                         (["--world", "0", "--remove", "Pebble"], "'Pebble' is not in the world"),
                          (["--world", "0", "--remove", "Die", "--time", "1"], "act from t = 0"),
-                         (["--world", "0", "--add", "Pebble", "--scene", str(moved_scene)], "different body of that name")):
+                         (["--world", "1", "--update", "Pebble", "--scene", pebble_scene], "'Pebble' is unchanged"),
+                         (["--world", "0", "--update", "Pebble", "--scene", pebble_scene], "add it instead")):
         result = run_engine(engine, "refine", "--library", str(out), *args)
-        assert result.returncode in (2, 3) and phrase in result.stderr, (args, result.stderr)
+        assert result.returncode == 2 and phrase in result.stderr, (args, result.stderr)
+
+
+def test_an_object_moved_after_sampling_is_updated_in_new_worlds(native, engine, tmp_path):
+    out = tmp_path / "update.mwb"
+    sample(engine, out, "--worlds", "0:2")
+    with open(QUICKSTART) as f:
+        scene = json.load(f)
+    can = [b["name"] for b in scene["bodies"]].index("Can")
+    scene["bodies"][can]["initial"]["location"] = [4.0, -4.0, 0.5]
+    moved = tmp_path / "moved.json"
+    moved.write_text(json.dumps(scene))
+    result = run_engine(engine, "refine", "--library", str(out), "--world", "1", "--update", "Can",
+                        "--scene", str(moved), "--count", "2")
+    assert result.returncode == 0, result.stderr
+    lib = native.Library(str(out))
+    bodies = json.loads(lib.scene_json)["bodies"]
+    assert [(b["name"], b.get("object")) for b in bodies[len(scene["bodies"]):]] == [("Can#2", "Can")]
+    new_can = len(scene["bodies"])
+    for child in (2, 3):
+        present = lib.present(child)
+        assert not present[can] and present[new_can]
+        assert np.abs(lib.positions(child)[new_can, 0] - [4.0, -4.0, 0.5]).max() < 0.05, "the can starts where it was moved"
+    assert lib.present(1)[can] and not lib.present(1)[new_can], "the parent keeps its can"
+    # Updating the updated can in a child to the same place again is refused; moving it back reuses the old body.
+    result = run_engine(engine, "refine", "--library", str(out), "--world", "2", "--update", "Can",
+                        "--scene", str(moved), "--count", "1")
+    assert result.returncode == 2 and "'Can' is unchanged" in result.stderr, result.stderr
+    result = run_engine(engine, "refine", "--library", str(out), "--world", "2", "--update", "Can",
+                        "--scene", QUICKSTART, "--count", "1")
+    assert result.returncode == 0, result.stderr
+    lib = native.Library(str(out))
+    assert lib.body_count == new_can + 1 and lib.present(4)[can] and not lib.present(4)[new_can]

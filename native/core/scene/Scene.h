@@ -51,6 +51,9 @@ struct KinematicTrack {
 
 struct Body {
     std::string name;
+    /// The scene object this body stands for, when that is not `name`: a library scene keeps an
+    /// object's earlier definitions after it changed, each under its own body name.
+    std::string object;
     BodyType type = BodyType::Active;
     bool kinematic = false;  ///< Blender's "Animated": follows `animation` instead of physics
     bool enabled = true;     ///< Blender's "Dynamic" toggle; disabled active bodies stay put

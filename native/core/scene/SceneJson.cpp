@@ -287,6 +287,7 @@ void read_body(ObjectReader& o, Body& b) {
     static const std::vector<BodyType> kAll{BodyType::Active, BodyType::Passive};
     bool known = false;
     o.required("name", b.name);
+    o.optional("object", b.object);
     read_enum(o, "type", "body type", kAll, parse_body_type, b.type, known);
     o.optional("kinematic", b.kinematic);
     o.optional("enabled", b.enabled);
@@ -493,6 +494,7 @@ OutJson body_json(const Body& b) {
               {"initial", transform_json(b.initial)},
               {"initial_linear_velocity", b.initial_linear_velocity},
               {"initial_angular_velocity", b.initial_angular_velocity}};
+    if (!b.object.empty()) j["object"] = b.object;
     if (b.has_center_of_mass) j["center_of_mass_local_m"] = b.center_of_mass_local_m;
     if (!b.animation.times_s.empty() || !b.animation.transforms.empty()) {
         OutJson transforms = OutJson::array();
