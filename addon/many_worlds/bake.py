@@ -108,7 +108,8 @@ def bake_world(context, world):
     present = view.present(world)
     simulated = view.simulated_bodies()
     pairs = _objects_of(view, view.present_bodies(world, simulated))
-    every = _objects_of(view, range(len(view.body_names)))
+    # One body per object: the one the world has, if any (an updated object has several).
+    every = _objects_of(view, view.object_bodies(world).values())
     absent = [ob for i, ob in every if not present[i]]
     if pairs:
         index = np.array([i for i, _ in pairs])

@@ -95,7 +95,8 @@ def library_bodies(library):
 
 
 def library_body_names(library):
-    return [b["name"] for b in library_bodies(library)]
+    """The object each body stands for (an object updated after sampling has a body per definition)."""
+    return [b.get("object") or b["name"] for b in library_bodies(library)]
 
 
 def check_library_matches_scene(library, path):
@@ -121,7 +122,7 @@ def body_indices(library, objects_text, default="simulated"):
         unknown = [n for n in wanted if n not in names]
         if unknown:
             raise CliError(f"unknown object {unknown[0]!r} (the library has: {', '.join(names)})")
-        return [names.index(n) for n in wanted]
+        return [i for i, name in enumerate(names) if name in wanted]
     return [i for i, b in enumerate(library_bodies(library))
             if b["type"] == "ACTIVE" and not b.get("kinematic", False)]
 

@@ -15,10 +15,11 @@ from .core.session import SESSION
 ABSENT_DISPLAY = "WIRE"
 
 
-def _objects_by_body(view):
-    """(body index, object) of the library's bodies that exist in this file."""
+def _objects_by_body(view, world):
+    """(body index, object) per library object that exists in this file: the body `world` has, or
+    one it lacks."""
     out = []
-    for i, name in enumerate(view.body_names):
+    for name, i in view.object_bodies(world).items():
         ob = bpy.data.objects.get(name)
         if ob is not None:
             out.append((i, ob))
@@ -77,7 +78,7 @@ def apply(scene, frame=None):
     present = view.present(world)
     simulated = set(view.simulated_bodies())
     saved = _saved_items(settings)
-    for i, ob in _objects_by_body(view):
+    for i, ob in _objects_by_body(view, world):
         item = saved.get(ob.name)
         if not present[i]:
             _show_absent(settings, saved, item, ob)

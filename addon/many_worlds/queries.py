@@ -31,7 +31,8 @@ def simulated_body_names(scene):
     """Names of the bodies the simulation moves: from the library if one is open, else the scene."""
     view = SESSION.view
     if view is not None:
-        return [view.body_names[i] for i in view.simulated_bodies()]
+        # An object updated after sampling has a body per definition: name it once.
+        return list(dict.fromkeys(view.body_names[i] for i in view.simulated_bodies()))
     rbw = scene.rigidbody_world
     objects = rbw.collection.objects if rbw is not None and rbw.collection is not None else []
     return [ob.name for ob in objects
@@ -48,9 +49,10 @@ def default_body_names(context):
 
 
 def body_indices(names, view):
-    """Library body indices of the names it knows, sorted; names it does not know are skipped."""
-    index = {name: i for i, name in enumerate(view.body_names)}
-    return tuple(sorted({index[n] for n in names if n in index}))
+    """Library body indices of the objects named, sorted (every body of an object updated after
+    sampling: a world has at most one of them); names it does not know are skipped."""
+    wanted = set(names)
+    return tuple(i for i, name in enumerate(view.body_names) if name in wanted)
 
 
 def ranking_body_names(context):

@@ -190,23 +190,53 @@ def test_add_refuses_bad_selections_with_one_line_errors(domino_scene):
     assert child in SESSION.view.world_indices and SESSION.engine is None
 
 
-def test_an_added_object_changed_since_needs_a_new_name_to_be_added_elsewhere(domino_scene):
+def test_an_object_moved_after_sampling_is_updated_as_a_body_of_its_own(domino_scene):
     first, second = SESSION.view.world_indices[:2]
     ball = add_ball()
     select_only("Ball")
-    run_operator(bpy.ops.mwb.add_to_worlds, first, count=1)
+    with_ball = run_operator(bpy.ops.mwb.add_to_worlds, first, count=1)[0]
     # The same ball, unchanged, joins another world as the same body.
     run_operator(bpy.ops.mwb.add_to_worlds, second, count=1)
     assert SESSION.view.body_names.count("Ball") == 1
+    # Moved, then updated in a world that has it: the world's ball starts where it is now, as a
+    # second body standing for the same object; the world it came from keeps the old one.
     ball.location.x += 0.5
-    bpy.ops.mwb.select_world(world=second)
+    moved_start = (BALL_START[0] + 0.5, BALL_START[1], BALL_START[2])
+    updated = run_operator(bpy.ops.mwb.update_in_worlds, with_ball, count=1)[0]
+    assert "Updated in 1 new worlds" in SESSION.status
+    view = SESSION.view
+    old, new = [i for i, name in enumerate(view.body_names) if name == "Ball"]
+    assert view.present(updated)[new] and not view.present(updated)[old]
+    assert view.present(with_ball)[old] and not view.present(with_ball)[new]
+    assert np.allclose(view.library.positions(updated)[new, 0], moved_start, atol=2e-3)
+    assert core_family.relation_text(view.lineages()[updated], view.body_names) == f"child of {with_ball}: ~Ball"
+    # Preview and bake follow the body each world has.
+    bpy.context.scene.frame_set(1)
+    bpy.ops.mwb.select_world(world=updated)
+    assert ball.display_type == "TEXTURED" and np.allclose(ball.matrix_world.translation, moved_start, atol=2e-3)
+    bpy.ops.mwb.select_world(world=with_ball)
+    assert np.allclose(ball.matrix_world.translation, BALL_START, atol=2e-3)
+    # Queries and rankings name the object: either of its bodies, whichever a world has.
+    assert set(queries.body_indices(["Ball"], view)) == {old, new}
+    # Updating it again, unchanged, is refused by the engine with the reason.
+    bpy.ops.mwb.select_world(world=updated)
     bpy.context.scene.mwb.refine_count = 1
-    assert bpy.ops.mwb.add_to_worlds() == {"FINISHED"}
-    deadline = time.monotonic() + 60
-    while sampling.poll_sampling() is not None:
-        assert time.monotonic() < deadline
-        time.sleep(0.05)
-    assert "rename the object" in SESSION.last_error and "Adding failed" in SESSION.status
+    select_only("Ball")
+    assert bpy.ops.mwb.update_in_worlds() == {"FINISHED"}
+    pump()
+    assert "'Ball' is unchanged" in SESSION.last_error and "Updating failed" in SESSION.status
+    # An object the world lacks is added, not updated.
+    bpy.ops.mwb.select_world(world=first)
+    select_only("Ball")
+    with pytest.raises(RuntimeError, match=f"Ball is not in world {first}; add it instead"):
+        bpy.ops.mwb.update_in_worlds()
+    assert SESSION.engine is None
+    # Baking the updated world keys the ball from its new body and never hides it.
+    bpy.ops.mwb.select_world(world=updated)
+    assert bpy.ops.mwb.bake_world() == {"FINISHED"}
+    fcurves = ball.animation_data.action.fcurves
+    assert fcurves.find("location", index=0).evaluate(1) == pytest.approx(moved_start[0], abs=2e-3)
+    assert fcurves.find("hide_render") is None, "a world with the ball never hides it"
 
 
 def test_add_and_remove_wait_for_a_running_engine_and_need_a_library(domino_scene):

@@ -51,7 +51,7 @@ def test_change_bodies_command_adds_and_removes_by_name():
     assert argv[argv.index("--remove") + 1] == "Box" and argv[argv.index("--first-child") + 1] == "100"
     argv = engine.change_bodies_command("/e", "l.mwb", 3, [], ["Box"], "", 4, 0)
     assert "--add" not in argv and "--scene" not in argv
-    for add, remove, scene, phrase in (([], [], "s.json", "nothing to add or remove"),
+    for add, remove, scene, phrase in (([], [], "s.json", "nothing to add, remove or update"),
                                        (["Ball"], [], "", "needs the scene JSON"),
                                        (["a,b"], [], "s.json", "without commas")):
         try:

@@ -50,26 +50,32 @@ def refine_command(engine, library, world, bodies, time_s, count, threads, first
 
 
 def change_bodies_command(engine, library, world, add_names, remove_names, scene_json, count, threads,
-                          first_child=None):
-    """The argument list of one `mwb-engine refine --add/--remove` run: `count` children of `world`
-    in which the bodies `add_names` (defined in the scene JSON file `scene_json`) exist from 0 s and
-    the bodies `remove_names` do not; what they touch is simulated anew, every other body replays
+                          first_child=None, update_names=()):
+    """The argument list of one `mwb-engine refine --add/--remove/--update` run: `count` children of
+    `world` in which the objects `add_names` (defined in the scene JSON file `scene_json`) exist from
+    0 s, the objects `remove_names` do not, and the objects `update_names` start as `scene_json`
+    defines them now (remove + add); what they touch is simulated anew, every other body replays
     the parent. The children are appended to `library` itself.
 
-    Raises ValueError for a call that cannot be expressed: nothing to change, adding without a
-    scene, or a name the engine cannot take apart (names are comma-separated on its command line).
+    Raises ValueError for a call that cannot be expressed: nothing to change, adding or updating
+    without a scene, or a name the engine cannot take apart (names are comma-separated on its
+    command line).
     """
-    add_names, remove_names = list(add_names), list(remove_names)
-    if not add_names and not remove_names:
-        raise ValueError("nothing to add or remove")
-    if add_names and not scene_json:
-        raise ValueError("adding bodies needs the scene JSON that defines them")
-    for name in add_names + remove_names:
+    add_names, remove_names, update_names = list(add_names), list(remove_names), list(update_names)
+    if not add_names and not remove_names and not update_names:
+        raise ValueError("nothing to add, remove or update")
+    if (add_names or update_names) and not scene_json:
+        raise ValueError("adding or updating objects needs the scene JSON that defines them")
+    for name in add_names + remove_names + update_names:
         if not name or "," in name:
             raise ValueError(f"the object name {name!r} cannot be passed to the engine: rename it without commas")
     argv = [engine, "refine", "--library", library, "--world", str(int(world))]
     if add_names:
         argv += ["--add", ",".join(add_names), "--scene", scene_json]
+    if update_names:
+        argv += ["--update", ",".join(update_names)]
+        if not add_names:
+            argv += ["--scene", scene_json]
     if remove_names:
         argv += ["--remove", ",".join(remove_names)]
     argv += ["--count", str(int(count)), "--threads", str(int(threads)), "--progress"]

@@ -82,5 +82,9 @@ def relation_text(line, body_names=None):
     def name(b):
         return body_names[b] if body_names is not None and 0 <= b < len(body_names) else str(b)
 
-    changes = [f"+{name(b)}" for b in line.added] + [f"-{name(b)}" for b in line.removed]
+    # An object both removed and added (as another body) was updated: "~Ball".
+    removed = {name(b) for b in line.removed}
+    added = [name(b) for b in line.added]
+    changes = ([f"~{n}" if n in removed else f"+{n}" for n in added] +
+               [f"-{n}" for n in sorted(removed - set(added))])
     return f"child of {line.parent}: {' '.join(changes)}"

@@ -6,7 +6,10 @@ data or match state bumps `version` so cached GPU batches know when to rebuild.
 Bodies come from the library's current scene (`Library.scene_json`): the sampled scene plus every
 body added to worlds since, appended, so a body's index never changes. Not every body exists in
 every world: `present(world)` says which do (a body removed in a world's lineage, or added only
-in another family or later, is absent; its rows in the world's arrays are NaN).
+in another family or later, is absent; its rows in the world's arrays are NaN). An object changed
+after sampling and updated in some worlds has a body per definition ("Ball", "Ball#2"); each
+stands for the same object, so `body_names` (the objects' names) can repeat, while a world has at
+most one body of each object.
 """
 import json
 
@@ -39,7 +42,8 @@ class LibraryView:
         self.scene_json = self.library.scene_json
         self.scene = json.loads(self.scene_json)
         bodies = self.scene.get("bodies", [])
-        self.body_names = [b["name"] for b in bodies]
+        # The object each body stands for: the names of objects in the .blend.
+        self.body_names = [b.get("object") or b["name"] for b in bodies]
         self.body_types = [b["type"] for b in bodies]
         self.body_kinematic = [bool(b.get("kinematic", False)) for b in bodies]
         # Presence lists have one entry per body: computed again for the longer list.
@@ -72,6 +76,16 @@ class LibraryView:
             present = np.asarray(self.library.present(world), dtype=bool)
             self._present[world] = (present, present.tobytes())
         return self._present[world][0]
+
+    def object_bodies(self, world):
+        """{object name: body index} of every object of the library: the body `world` has, or (for an
+        object the world lacks) its first body."""
+        present = self.present(world)
+        out = {}
+        for i, name in enumerate(self.body_names):
+            if name not in out or (present[i] and not present[out[name]]):
+                out[name] = i
+        return out
 
     def present_bodies(self, world, bodies):
         """The body indices of `bodies` that exist in `world`, in the given order."""

@@ -1,8 +1,10 @@
-"""Add Selected to Worlds / Remove from Worlds: change which objects exist in the selected world.
+"""Add Selected to Worlds / Remove from Worlds / Update Selected in Worlds: change which objects
+exist in the selected world, or how they start.
 
-After sampling, the user places a new object (or deletes one, or picks one) and asks for worlds
-with it (or without it): `mwb-engine refine --add / --remove` appends children of the selected
-world in which the objects exist from 0 s (or not at all); whatever they touch (or touched) is
+After sampling, the user places a new object (or deletes one, or picks one, or moves one) and asks
+for worlds with it (or without it, or with it where it is now): `mwb-engine refine --add /
+--remove / --update` appends children of the selected world in which the objects exist from 0 s
+(or not at all, or as a new body for their new definition); whatever they touch (or touched) is
 simulated anew, and every other body replays the world bit for bit. The run goes through the
 sampling poller like a refinement: children stream into the list and the viewport as they land,
 Esc / Cancel keeps the finished ones, and only one engine run exists at a time.
@@ -75,13 +77,33 @@ def bodies_to_remove(context):
     return names, deleted, ""
 
 
-def _start(scene, world, add_names, remove_names, scene_json, label, status):
+def bodies_to_update(context):
+    """(names, problem): the selected objects the selected world has, to start them as they are
+    now (moved, new settings), or why they cannot be."""
+    problem = _world_problem(context.scene)
+    if problem:
+        return [], problem
+    world = context.scene.mwb.selected_world
+    selected = _selected(context)
+    if not selected:
+        return [], "Select the objects to update (objects in the world, changed since it was made)"
+    in_world = set(_in_world(SESSION.view, world))
+    for ob in selected:
+        if ob.rigid_body is None:
+            return [], f"{ob.name} has no rigid body (Physics > Rigid Body)"
+        if ob.name not in in_world:
+            return [], f"{ob.name} is not in world {world}; add it instead"
+    return [ob.name for ob in selected], ""
+
+
+def _start(scene, world, add_names, remove_names, scene_json, label, status, update_names=()):
     """Build the engine command and start the run; returns '' or why it could not start."""
     settings = scene.mwb
     view = SESSION.view
     try:
         argv = engine_process.change_bodies_command(paths.engine_path(), view.path, world, add_names, remove_names,
-                                                    scene_json, settings.refine_count, settings.threads)
+                                                    scene_json, settings.refine_count, settings.threads,
+                                                    update_names=update_names)
         start_run(scene, argv, view.path, label, status)
     except (ValueError, OSError) as error:
         return str(error)
@@ -93,6 +115,20 @@ def start_adding(context):
     names, problem = bodies_to_add(context)
     if problem:
         return False, problem, []
+    return _export_and_start(context, names, updating=False)
+
+
+def start_updating(context):
+    """Export the scene and start updating the selected objects. Returns (ok, message, warnings)."""
+    names, problem = bodies_to_update(context)
+    if problem:
+        return False, problem, []
+    return _export_and_start(context, names, updating=True)
+
+
+def _export_and_start(context, names, updating):
+    """Export the scene as it is now and start the run that adds (or updates) `names` in the
+    selected world. Returns (ok, message, warnings)."""
     scene = context.scene
     # Export the user's scene, not the preview's poses.
     preview.end(scene)
@@ -112,8 +148,12 @@ def start_adding(context):
     except OSError as error:
         return False, f"Cannot write {scene_json}: {error.strerror}", warnings
     world, count = scene.mwb.selected_world, scene.mwb.refine_count
-    problem = _start(scene, world, names, [], scene_json, "Adding",
-                     f"Adding {', '.join(names)} to world {world} in {count} new worlds")
+    if updating:
+        problem = _start(scene, world, [], [], scene_json, "Updating",
+                         f"Updating {', '.join(names)} in world {world} in {count} new worlds", update_names=names)
+    else:
+        problem = _start(scene, world, names, [], scene_json, "Adding",
+                         f"Adding {', '.join(names)} to world {world} in {count} new worlds")
     return not problem, problem or SESSION.status, warnings
 
 
@@ -164,4 +204,23 @@ class MWB_OT_remove_from_worlds(FollowsEngineRun, bpy.types.Operator):
         return ok
 
 
-classes = (MWB_OT_add_to_worlds, MWB_OT_remove_from_worlds)
+class MWB_OT_update_in_worlds(FollowsEngineRun, bpy.types.Operator):
+    """New worlds from the selected world in which the selected objects start as they are now (moved
+    or changed since): their old bodies leave, new ones start from the first frame, what either
+    touches is simulated anew (Esc cancels; finished worlds stay)"""
+    bl_idname = "mwb.update_in_worlds"
+    bl_label = "Update Selected in Worlds"
+
+    @classmethod
+    def poll(cls, context):
+        return SESSION.engine is None
+
+    def _start(self, context):
+        ok, message, warnings = start_updating(context)
+        for line in warnings:
+            self.report({"WARNING"}, line)
+        self.report({"INFO"} if ok else {"ERROR"}, message)
+        return ok
+
+
+classes = (MWB_OT_add_to_worlds, MWB_OT_remove_from_worlds, MWB_OT_update_in_worlds)

@@ -54,7 +54,7 @@ def start_refining(scene, world, body_names, time_s):
     settings = scene.mwb
     view = SESSION.view
     argv = engine_process.refine_command(paths.engine_path(), view.path, world,
-                                         queries.body_indices(body_names, view), time_s,
+                                         view.present_bodies(world, queries.body_indices(body_names, view)), time_s,
                                          settings.refine_count, settings.threads)
     sampling.start_run(scene, argv, view.path, "Refining",
                        f"Refining {', '.join(body_names)} in world {world} from {time_s:.2f} s "

@@ -19,7 +19,8 @@ from . import browsing
 POLL_INTERVAL_S = 0.25
 # What a finished run made, by SESSION.run_label; {done} is the count of new worlds.
 FINISHED_TEXT = {"Sampling": "Sampled {done} worlds", "Refining": "Refined into {done} worlds",
-                 "Adding": "Added into {done} new worlds", "Removing": "Removed from {done} new worlds"}
+                 "Adding": "Added into {done} new worlds", "Removing": "Removed from {done} new worlds",
+                 "Updating": "Updated in {done} new worlds"}
 
 
 def _set_status_text(text):
@@ -75,7 +76,7 @@ def start_sampling(context):
 def start_run(scene, argv, library, label, status):
     """Start the engine child `argv` writing `library`; the poller streams its worlds into the view.
 
-    label: what the run does ("Sampling", "Refining", "Adding", "Removing"), for the panel and the
+    label: what the run does ("Sampling", "Refining", "Adding", "Removing", "Updating"), for the panel and the
     end of run message; status: the panel's line until the first progress arrives.
     """
     SESSION.engine = engine_process.EngineRun(argv)

@@ -100,9 +100,11 @@ class MWB_PT_refine(LibraryPanel, bpy.types.Panel):
             col = layout.column(align=True)
             col.operator("mwb.add_to_worlds", icon="ADD")
             col.operator("mwb.remove_from_worlds", icon="REMOVE")
+            col.operator("mwb.update_in_worlds", icon="FILE_REFRESH")
             col = layout.column(align=True)
             col.label(text="New worlds of this one with the selected objects", icon="INFO")
-            col.label(text="from the start, or without them (and deleted ones)")
+            col.label(text="from the start, without them (and deleted ones),")
+            col.label(text="or starting as they are now")
         else:
             layout.operator("mwb.cancel_sampling", text=f"Cancel {SESSION.run_label}", icon="CANCEL")
             layout.label(text=SESSION.status, icon="INFO")
