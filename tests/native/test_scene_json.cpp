@@ -81,6 +81,7 @@ Scene full_scene() {
         b.type = type == ShapeType::Mesh ? BodyType::Passive : BodyType::Active;
         b.kinematic = type == ShapeType::Cone;
         b.enabled = type != ShapeType::Sphere;
+        if (type == ShapeType::Capsule) b.object = "Capsule object";
         b.shape = every_shape(type);
         b.mass_kg = 0.1 + static_cast<double>(scene.bodies.size());
         b.friction = 1.0 / 7.0;
@@ -174,6 +175,7 @@ void expect_same(const Shape& a, const Shape& b, const std::string& what) {
 void expect_same(const Body& a, const Body& b) {
     const std::string w = "body " + a.name;
     EXPECT_EQ(a.name, b.name);
+    EXPECT_EQ(a.object, b.object) << a.name;
     EXPECT_EQ(a.type, b.type) << w;
     EXPECT_EQ(a.kinematic, b.kinematic) << w;
     EXPECT_EQ(a.enabled, b.enabled) << w;
