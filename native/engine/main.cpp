@@ -65,7 +65,7 @@ int run_sample(const EngineOptions& options) {
 struct SceneChange {
     Scene scene;
     bool revised = false;  ///< the scene gained bodies: a scene revision must be stored
-    std::vector<uint32_t> added, removed;
+    std::vector<uint32_t> added{}, removed{};
 };
 
 SceneChange change_scene(const LibraryReader& reader, const StoredWorld& parent, const EngineOptions& options) {

@@ -58,9 +58,10 @@ TEST(Refine, ChildrenEqualTheirParentBeforeTheBranchAndWhereverUntouched) {
         EXPECT_EQ(child.changed[chosen], 1);
         for (uint32_t b = 0; b < child.body_count; ++b) {
             EXPECT_TRUE(same_track(child, parent, b, branch_frame + 1)) << "body " << b << " before the branch";
-            if (!child.changed[b])
+            if (!child.changed[b]) {
                 EXPECT_TRUE(same_track(child, parent, b, std::min(child.frame_count, parent.frame_count)))
                     << "untouched body " << b << " of world " << index;
+            }
         }
         diverged += !same_track(child, parent, chosen, std::min(child.frame_count, parent.frame_count));
     }

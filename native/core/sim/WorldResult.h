@@ -55,9 +55,9 @@ enum class WorldStatus { Ok, Rejected, Cancelled };
 struct RefineStep {
     uint64_t branch_step = 0;
     uint64_t world_index = 0;
-    std::vector<uint32_t> bodies;
-    std::vector<uint32_t> added;
-    std::vector<uint32_t> removed;
+    std::vector<uint32_t> bodies{};
+    std::vector<uint32_t> added{};
+    std::vector<uint32_t> removed{};
 };
 
 struct WorldResult {
