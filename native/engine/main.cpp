@@ -18,7 +18,7 @@
 #include "library/LibraryWriter.h"
 #include "library/SceneRevision.h"
 #include "sampler/Sampler.h"
-#include "scene/SceneAddition.h"
+#include "scene/BodyChanges.h"
 #include "scene/SceneJson.h"
 #include "sim/WorldSimulator.h"
 

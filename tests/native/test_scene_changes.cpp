@@ -15,7 +15,7 @@
 #include "library/SceneRevision.h"
 #include "library/WorldDecoding.h"
 #include "sampler/Sampler.h"
-#include "scene/SceneAddition.h"
+#include "scene/BodyChanges.h"
 #include "scene/SceneJson.h"
 #include "sim/CompiledScene.h"
 #include "sim/WorldSimulator.h"

@@ -121,7 +121,7 @@ bool LibraryReader::accept_record(RawRecord&& record) {
                 throw LibraryError(where + ": world " + std::to_string(world.world_index) + " has " +
                                    std::to_string(world.scene_body_count) + " bodies, the library's scene " +
                                    std::to_string(body_names_.size()) + " (a scene revision is missing)");
-            inherit_from_parent(world, where);
+            complete_tracks(world, where);
             if (options_.polyline_hz > 0) derive_polyline(world, options_.polyline_hz);
             positions_[world.world_index] = worlds_.size();
             worlds_.push_back(std::move(world));
@@ -164,7 +164,7 @@ void LibraryReader::accept_scene_revision(const RawRecord& record, const std::st
 
 // Completes a world's tracks to one per scene body: its own, absent ones (empty), and for a
 // refined world the unchanged ones of its parent, read earlier.
-void LibraryReader::inherit_from_parent(StoredWorld& world, const std::string& where) const {
+void LibraryReader::complete_tracks(StoredWorld& world, const std::string& where) const {
     const StoredWorld* parent = nullptr;
     if (world.parent_world >= 0) {
         const auto it = positions_.find(static_cast<uint64_t>(world.parent_world));

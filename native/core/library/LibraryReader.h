@@ -63,8 +63,9 @@ private:
     void read_header(const std::vector<uint8_t>& bytes);
     void parse_records(const std::vector<uint8_t>& bytes, uint64_t base_offset, bool at_end);
     bool accept_record(RawRecord&& record);
-    /// A refined world stores only changed bodies; the rest come from its parent, read earlier.
-    void inherit_from_parent(StoredWorld& world, const std::string& where) const;
+    /// One track per scene body of the world: a refined world stores only changed bodies (the rest
+    /// come from its parent, read earlier), and bodies it lacks get empty, absent tracks.
+    void complete_tracks(StoredWorld& world, const std::string& where) const;
     void accept_scene_revision(const RawRecord& record, const std::string& where);
 
     std::string path_;

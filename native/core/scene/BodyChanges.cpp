@@ -1,4 +1,4 @@
-#include "scene/SceneAddition.h"
+#include "scene/BodyChanges.h"
 
 #include <algorithm>
 #include <type_traits>
