@@ -158,69 +158,59 @@ def _export_and_start(context, names, updating):
 
 
 def start_removing(context):
-    """Start removing the chosen bodies from the selected world. Returns (ok, message)."""
+    """Start removing the chosen bodies from the selected world. Returns (ok, message, warnings)."""
     names, deleted, problem = bodies_to_remove(context)
     if problem:
-        return False, problem
+        return False, problem, []
     scene = context.scene
     world, count = scene.mwb.selected_world, scene.mwb.refine_count
     shown = [f"{name} (deleted from the scene)" if name in deleted else name for name in names]
     problem = _start(scene, world, [], names, "", "Removing",
                      f"Removing {', '.join(shown)} from world {world} in {count} new worlds")
-    return not problem, problem or SESSION.status
+    return not problem, problem or SESSION.status, []
 
 
-class MWB_OT_add_to_worlds(FollowsEngineRun, bpy.types.Operator):
-    """New worlds from the selected world in which the selected objects exist from the start: what
-    they touch is simulated anew, everything else replays the world (Esc cancels; finished worlds stay)"""
-    bl_idname = "mwb.add_to_worlds"
-    bl_label = "Add Selected to Worlds"
+class ChangesWorldObjects(FollowsEngineRun):
+    """A button that starts an engine run changing the selected world's objects: `starter(context)`
+    returns (started, message, warnings)."""
+
+    starter = None
 
     @classmethod
     def poll(cls, context):
         return SESSION.engine is None
 
     def _start(self, context):
-        ok, message, warnings = start_adding(context)
+        ok, message, warnings = type(self).starter(context)
         for line in warnings:
             self.report({"WARNING"}, line)
         self.report({"INFO"} if ok else {"ERROR"}, message)
         return ok
 
 
-class MWB_OT_remove_from_worlds(FollowsEngineRun, bpy.types.Operator):
+class MWB_OT_add_to_worlds(ChangesWorldObjects, bpy.types.Operator):
+    """New worlds from the selected world in which the selected objects exist from the start: what
+    they touch is simulated anew, everything else replays the world (Esc cancels; finished worlds stay)"""
+    bl_idname = "mwb.add_to_worlds"
+    bl_label = "Add Selected to Worlds"
+    starter = staticmethod(start_adding)
+
+
+class MWB_OT_remove_from_worlds(ChangesWorldObjects, bpy.types.Operator):
     """New worlds from the selected world without the selected objects, and without objects deleted
     from the scene since: what they touched is simulated anew (Esc cancels; finished worlds stay)"""
     bl_idname = "mwb.remove_from_worlds"
     bl_label = "Remove from Worlds"
-
-    @classmethod
-    def poll(cls, context):
-        return SESSION.engine is None
-
-    def _start(self, context):
-        ok, message = start_removing(context)
-        self.report({"INFO"} if ok else {"ERROR"}, message)
-        return ok
+    starter = staticmethod(start_removing)
 
 
-class MWB_OT_update_in_worlds(FollowsEngineRun, bpy.types.Operator):
+class MWB_OT_update_in_worlds(ChangesWorldObjects, bpy.types.Operator):
     """New worlds from the selected world in which the selected objects start as they are now (moved
     or changed since): their old bodies leave, new ones start from the first frame, what either
     touches is simulated anew (Esc cancels; finished worlds stay)"""
     bl_idname = "mwb.update_in_worlds"
     bl_label = "Update Selected in Worlds"
-
-    @classmethod
-    def poll(cls, context):
-        return SESSION.engine is None
-
-    def _start(self, context):
-        ok, message, warnings = start_updating(context)
-        for line in warnings:
-            self.report({"WARNING"}, line)
-        self.report({"INFO"} if ok else {"ERROR"}, message)
-        return ok
+    starter = staticmethod(start_updating)
 
 
 classes = (MWB_OT_add_to_worlds, MWB_OT_remove_from_worlds, MWB_OT_update_in_worlds)
