@@ -3,6 +3,7 @@
 #include <map>
 
 #include "SceneFixtures.h"
+#include "WorldCompare.h"
 #include "sampler/Sampler.h"
 #include "sim/CompiledScene.h"
 #include "sim/WorldSimulator.h"
@@ -10,21 +11,8 @@
 namespace mwb {
 namespace {
 
-Vec3 position(const WorldResult& w, size_t b, size_t f) {
-    const double* p = &w.positions_m[(b * w.frame_count + f) * 3];
-    return {p[0], p[1], p[2]};
-}
-
-// Every frame of body b before `frames` is bit-identical in both worlds.
-bool same_track(const WorldResult& a, const WorldResult& b, size_t body, size_t frames) {
-    for (size_t f = 0; f < frames; ++f) {
-        if (position(a, body, f) != position(b, body, f)) return false;
-        for (int k = 0; k < 4; ++k)
-            if (a.orientations[(body * a.frame_count + f) * 4 + k] != b.orientations[(body * b.frame_count + f) * 4 + k])
-                return false;
-    }
-    return true;
-}
+using compare::position;
+using compare::same_track;
 
 // Boxes tumbling down onto each other: lots of collisions, so refinements really diverge.
 Scene busy_scene() {

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include "SceneFixtures.h"
+#include "WorldCompare.h"
 #include "codec/CodecError.h"
 #include "library/LibraryFormat.h"
 #include "library/LibraryReader.h"
@@ -25,24 +26,10 @@ namespace {
 
 constexpr uint32_t kGround = 0, kLower = 1, kUpper = 2, kFar = 3;
 
-Vec3 position(const WorldResult& w, size_t body, size_t frame) {
-    const double* p = &w.positions_m[(body * w.frame_count + frame) * 3];
-    return {p[0], p[1], p[2]};
-}
+using compare::position;
+using compare::same_track;
 
 Vec3 final_position(const WorldResult& w, size_t body) { return position(w, body, w.frame_count - 1); }
-
-// Every frame of `body` is bit-identical in both worlds (over the shorter one).
-bool same_track(const WorldResult& a, const WorldResult& b, size_t body) {
-    const size_t frames = std::min(a.frame_count, b.frame_count);
-    for (size_t f = 0; f < frames; ++f) {
-        if (position(a, body, f) != position(b, body, f)) return false;
-        for (int k = 0; k < 4; ++k)
-            if (a.orientations[(body * a.frame_count + f) * 4 + k] != b.orientations[(body * b.frame_count + f) * 4 + k])
-                return false;
-    }
-    return true;
-}
 
 // Ground, a box resting on another (Lower, Upper: 0.4 m cubes) and a box far away, for 2 s.
 Scene stack() {

@@ -40,22 +40,31 @@ def _selected(context):
     return sorted(getattr(context, "selected_objects", None) or [], key=lambda ob: ob.name)
 
 
-def bodies_to_add(context):
-    """(names, problem): the selected objects to add to the selected world, or why they cannot be."""
+def _selected_bodies(context, in_world_wanted, nothing_selected):
+    """(names, problem): the selected objects, each with a rigid body and in the selected world (or
+    not, as `in_world_wanted` says), or why they cannot be taken."""
     problem = _world_problem(context.scene)
     if problem:
         return [], problem
     world = context.scene.mwb.selected_world
     selected = _selected(context)
     if not selected:
-        return [], "Select the objects to add (objects with a rigid body that are not in the world)"
+        return [], nothing_selected
     in_world = set(_in_world(SESSION.view, world))
     for ob in selected:
         if ob.rigid_body is None:
             return [], f"{ob.name} has no rigid body (Physics > Rigid Body)"
-        if ob.name in in_world:
+        if in_world_wanted and ob.name not in in_world:
+            return [], f"{ob.name} is not in world {world}; add it instead"
+        if not in_world_wanted and ob.name in in_world:
             return [], f"{ob.name} is already in world {world}"
     return [ob.name for ob in selected], ""
+
+
+def bodies_to_add(context):
+    """(names, problem): the selected objects to add to the selected world, or why they cannot be."""
+    return _selected_bodies(context, False,
+                            "Select the objects to add (objects with a rigid body that are not in the world)")
 
 
 def bodies_to_remove(context):
@@ -80,20 +89,8 @@ def bodies_to_remove(context):
 def bodies_to_update(context):
     """(names, problem): the selected objects the selected world has, to start them as they are
     now (moved, new settings), or why they cannot be."""
-    problem = _world_problem(context.scene)
-    if problem:
-        return [], problem
-    world = context.scene.mwb.selected_world
-    selected = _selected(context)
-    if not selected:
-        return [], "Select the objects to update (objects in the world, changed since it was made)"
-    in_world = set(_in_world(SESSION.view, world))
-    for ob in selected:
-        if ob.rigid_body is None:
-            return [], f"{ob.name} has no rigid body (Physics > Rigid Body)"
-        if ob.name not in in_world:
-            return [], f"{ob.name} is not in world {world}; add it instead"
-    return [ob.name for ob in selected], ""
+    return _selected_bodies(context, True,
+                            "Select the objects to update (objects in the world, changed since it was made)")
 
 
 def _start(scene, world, add_names, remove_names, scene_json, label, status, update_names=()):
