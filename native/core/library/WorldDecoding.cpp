@@ -33,28 +33,27 @@ void decode_track(const std::vector<uint8_t>& bytes, const StoredTrack& track, u
     }
 }
 
-}  // namespace
-
-std::vector<double> decode_world_positions(const StoredWorld& world, size_t body_count) {
+// Every present track's `blob` decoded into (bodies, frames, width), NaN for bodies the world lacks.
+template <typename Decoder>
+std::vector<double> decode_all(const StoredWorld& world, size_t body_count, int width,
+                               std::vector<uint8_t> StoredTrack::*blob) {
     body_count = std::max(body_count, world.tracks.size());
     const size_t frames = world.frame_count;
-    std::vector<double> out(body_count * frames * 3, std::numeric_limits<double>::quiet_NaN());
+    std::vector<double> out(body_count * frames * width, std::numeric_limits<double>::quiet_NaN());
     for (size_t t = 0; t < world.tracks.size(); ++t)
         if (world.tracks[t].present)
-            decode_track<PositionTrackDecoder>(world.tracks[t].position, world.tracks[t], world.frame_count, 3,
-                                               &out[t * frames * 3]);
+            decode_track<Decoder>(world.tracks[t].*blob, world.tracks[t], world.frame_count, width, &out[t * frames * width]);
     return out;
 }
 
+}  // namespace
+
+std::vector<double> decode_world_positions(const StoredWorld& world, size_t body_count) {
+    return decode_all<PositionTrackDecoder>(world, body_count, 3, &StoredTrack::position);
+}
+
 std::vector<double> decode_world_orientations(const StoredWorld& world, size_t body_count) {
-    body_count = std::max(body_count, world.tracks.size());
-    const size_t frames = world.frame_count;
-    std::vector<double> out(body_count * frames * 4, std::numeric_limits<double>::quiet_NaN());
-    for (size_t t = 0; t < world.tracks.size(); ++t)
-        if (world.tracks[t].present)
-            decode_track<RotationTrackDecoder>(world.tracks[t].rotation, world.tracks[t], world.frame_count, 4,
-                                               &out[t * frames * 4]);
-    return out;
+    return decode_all<RotationTrackDecoder>(world, body_count, 4, &StoredTrack::rotation);
 }
 
 void derive_polyline(StoredWorld& world, double rate_hz) {
