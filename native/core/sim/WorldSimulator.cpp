@@ -435,7 +435,7 @@ private:
             activate(body);
             if (!compiled_.bodies()[body].dynamic) activator_[body] = 1;
         }
-        for (uint32_t body : step.removed) activate_joint_partners(body);
+        for (uint32_t body : step.removed) activate_joint_partners(body, false);
         for (size_t i = 0; i < n; ++i)
             if (compiled_.bodies()[i].dynamic && !simulated_[i]) world_->set_kinematic(i, true);
         for (uint32_t body : ghosts_) world_->set_ghost_enabled(body, false);
@@ -463,26 +463,22 @@ private:
         world_->set_kinematic(i, false);
         impact_partner_[i] = kNoImpact;
         rest_since_s_[i] = -1;
+        activate_joint_partners(i, true);
+    }
+
+    // Activates the bodies jointed to body i: through the joints this world has (`live_only`), or
+    // through every enabled constraint of the scene (a removed body's partners lose their joint,
+    // so they move anew).
+    void activate_joint_partners(uint32_t i, bool live_only) {
         const Scene& scene = compiled_.scene();
         const auto& groups = world_->joint_groups();
         for (size_t c = 0; c < scene.constraints.size(); ++c) {
-            if (groups[c].joints.empty() || groups[c].broken) continue;
+            const bool joined = live_only ? !groups[c].joints.empty() && !groups[c].broken : scene.constraints[c].enabled;
+            if (!joined) continue;
             const int a = scene.body_index(scene.constraints[c].body_a);
             const int b = scene.body_index(scene.constraints[c].body_b);
             if (a == static_cast<int>(i) && b >= 0) activate(static_cast<uint32_t>(b));
             if (b == static_cast<int>(i) && a >= 0) activate(static_cast<uint32_t>(a));
-        }
-    }
-
-    // The bodies a removed body was jointed to lose that joint: they move anew.
-    void activate_joint_partners(uint32_t removed) {
-        const Scene& scene = compiled_.scene();
-        for (const Constraint& c : scene.constraints) {
-            if (!c.enabled) continue;
-            const int a = scene.body_index(c.body_a);
-            const int b = scene.body_index(c.body_b);
-            if (a == static_cast<int>(removed) && b >= 0) activate(static_cast<uint32_t>(b));
-            if (b == static_cast<int>(removed) && a >= 0) activate(static_cast<uint32_t>(a));
         }
     }
 
