@@ -35,14 +35,31 @@ py::dict header_dict(const RunHeader& h) {
     return d;
 }
 
-// Per scene body (the library's scene now): a track's value, or `absent` for bodies the world
-// does not have.
+// Rows of every per-body array: one per body of the library's scene now (a world made before
+// bodies were added has fewer tracks).
+size_t body_rows(const PyLibrary& l, const StoredWorld& world) {
+    return std::max(l.reader().scene_body_count(), world.tracks.size());
+}
+
+// Per scene body: a track's value, or `absent` for bodies the world does not have.
 template <typename T, typename F>
 std::vector<T> per_body(const PyLibrary& l, const StoredWorld& world, T absent, F value) {
-    std::vector<T> out(std::max(l.reader().scene_body_count(), world.tracks.size()), absent);
+    std::vector<T> out(body_rows(l, world), absent);
     for (size_t t = 0; t < world.tracks.size(); ++t)
         if (world.tracks[t].present) out[t] = value(world.tracks[t], t);
     return out;
+}
+
+// (bodies, frames, width) of one world decoded by `decode` with the GIL released.
+py::array_t<double> decoded(const PyLibrary& l, uint64_t w, std::vector<double> (*decode)(const StoredWorld&, size_t),
+                            py::ssize_t width) {
+    const StoredWorld& world = l.world(w);
+    std::vector<double> data;
+    {
+        py::gil_scoped_release release;
+        data = decode(world, l.reader().scene_body_count());
+    }
+    return as_array(std::move(data), {static_cast<py::ssize_t>(body_rows(l, world)), world.frame_count, width});
 }
 
 }  // namespace
@@ -88,28 +105,10 @@ void bind_library(py::module_& m) {
         .def("poll", &PyLibrary::poll, "Read worlds appended since the last read; returns how many arrived.")
         .def("frame_count", [](const PyLibrary& l, uint64_t w) { return l.world(w).frame_count; }, py::arg("world"))
         .def("positions",
-             [](const PyLibrary& l, uint64_t w) {
-                 const StoredWorld& world = l.world(w);
-                 std::vector<double> data;
-                 {
-                     py::gil_scoped_release release;
-                     data = decode_world_positions(world, l.reader().scene_body_count());
-                 }
-                 const auto rows = static_cast<py::ssize_t>(std::max(l.reader().scene_body_count(), world.tracks.size()));
-                 return as_array(std::move(data), {rows, world.frame_count, 3});
-             },
+             [](const PyLibrary& l, uint64_t w) { return decoded(l, w, decode_world_positions, 3); },
              py::arg("world"), "float64 (bodies, frames, 3): decoded object origins, metres; NaN for absent bodies")
         .def("orientations",
-             [](const PyLibrary& l, uint64_t w) {
-                 const StoredWorld& world = l.world(w);
-                 std::vector<double> data;
-                 {
-                     py::gil_scoped_release release;
-                     data = decode_world_orientations(world, l.reader().scene_body_count());
-                 }
-                 const auto rows = static_cast<py::ssize_t>(std::max(l.reader().scene_body_count(), world.tracks.size()));
-                 return as_array(std::move(data), {rows, world.frame_count, 4});
-             },
+             [](const PyLibrary& l, uint64_t w) { return decoded(l, w, decode_world_orientations, 4); },
              py::arg("world"), "float64 (bodies, frames, 4): decoded unit quaternions (w, x, y, z); NaN for absent bodies")
         .def("pose",
              [](const PyLibrary& l, uint64_t w, size_t body, uint32_t frame) {
@@ -121,7 +120,7 @@ void bind_library(py::module_& m) {
         .def("polyline",
              [](const PyLibrary& l, uint64_t w) {
                  const StoredWorld& world = l.world(w);
-                 const size_t bodies = std::max(l.reader().scene_body_count(), world.tracks.size());
+                 const size_t bodies = body_rows(l, world);
                  py::array_t<float> out({static_cast<py::ssize_t>(bodies), static_cast<py::ssize_t>(world.polyline_points),
                                          py::ssize_t{3}});
                  std::fill_n(out.mutable_data(), out.size(), std::numeric_limits<float>::quiet_NaN());
