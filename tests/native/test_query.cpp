@@ -226,6 +226,32 @@ TEST(PathIndex, RankingCombinesBodiesBySumOrMax) {
     EXPECT_THROW(index.rank("no_such_metric", {0}, Combine::Sum, false), std::invalid_argument);
 }
 
+// Bodies added to or removed from worlds after sampling: a world without a body has no path for it.
+TEST(PathIndex, WorldsAreRankedOverTheBodiesTheyHave) {
+    PathIndex index({0.1, 0.5});
+    fill_small_index(index, 3);
+    std::vector<IndexedWorldInput> lacking;
+    for (uint64_t w : {10, 11}) {
+        IndexedWorldInput in;
+        in.world_index = w;
+        in.last_frame = 400;
+        in.polylines = {std::vector<float>{}};  // body 0 removed; body 1 added later than this world
+        if (w == 11) in.polylines[0] = {0.5f, 0.0f, -5.0f};
+        in.final_orientations = {Quat{1, 0, 0, 0}};
+        in.metric_names = {"collision_count", "time_to_rest_s"};
+        in.metric_values = {{0.0}, {w == 11 ? 4.0 : 0.0}};
+        lacking.push_back(std::move(in));
+    }
+    index.add_worlds(std::move(lacking), 1);
+    const auto by_sum = index.rank("time_to_rest_s", {0, 1}, Combine::Sum, false);
+    EXPECT_EQ(by_sum, (std::vector<std::pair<uint64_t, double>>{{11, 4.0}, {0, 10.0}, {1, 10.0}, {2, 10.0}}))
+        << "world 11 over body 0 alone; world 10 has neither body and is left out";
+    const auto by_max = index.rank("time_to_rest_s", {1}, Combine::Max, false);
+    EXPECT_EQ(by_max.size(), 3u);
+    EXPECT_EQ(index.query({box_over_x(-21, -19, false, {1})}).matching, (std::vector<uint64_t>{0, 1, 2}));
+    EXPECT_EQ(index.query({box_over_x(-21, -19, true, {1})}).matching, (std::vector<uint64_t>{10, 11}));
+}
+
 TEST(PathIndex, QueriesRunWhileWorldsAreAdded) {
     PathIndex index({0.1, 0.5});
     std::thread writer([&] {

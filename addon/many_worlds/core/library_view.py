@@ -73,9 +73,8 @@ class LibraryView:
     def present(self, world):
         """bool (bodies,): which bodies exist in `world`; read once per world and scene revision."""
         if world not in self._present:
-            present = np.asarray(self.library.present(world), dtype=bool)
-            self._present[world] = (present, present.tobytes())
-        return self._present[world][0]
+            self._present[world] = np.asarray(self.library.present(world), dtype=bool)
+        return self._present[world]
 
     def object_bodies(self, world):
         """{object name: body index} of every object of the library: the body `world` has, or (for an
@@ -91,19 +90,6 @@ class LibraryView:
         """The body indices of `bodies` that exist in `world`, in the given order."""
         present = self.present(world)
         return tuple(b for b in bodies if b < len(present) and present[b])
-
-    def presence_groups(self, worlds=None):
-        """[(present flags (bodies,), [world, ...]), ...]: `worlds` (default: every world, file
-        order) grouped by which bodies exist in them.
-
-        A library without added or removed bodies has one group; the worlds of a group are ranked
-        over the same bodies.
-        """
-        groups = {}
-        for world in (self.world_indices if worlds is None else worlds):
-            present = self.present(world)
-            groups.setdefault(self._present[world][1], (present, []))[1].append(world)
-        return list(groups.values())
 
     def lineages(self):
         """{world: core.family.Lineage} of every world; read once per world (worlds never change)."""

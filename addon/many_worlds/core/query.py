@@ -58,8 +58,8 @@ class LibraryQuery:
     """The path index of one LibraryView, the last evaluation and rankings over it.
 
     Bodies absent from a world (added elsewhere or later, or removed) never enter a box (the
-    index sees no path for them) and are left out of rankings: worlds are ranked in groups that
-    have the same bodies, and a world with none of the ranked bodies is not ranked.
+    index sees no path for them); the index ranks each world over the ranked bodies it has and
+    leaves out a world with none of them.
     """
 
     def __init__(self, native, view):
@@ -146,20 +146,6 @@ class LibraryQuery:
         if metric == "orientation_to_goal_rad" and goals is None:
             # The object's unrotated pose is the goal: 'land upright' for a model built upright.
             goals = [(1.0, 0.0, 0.0, 0.0)] * len(bodies)
-        ids, values = [], []
-        for present, worlds in self.view.presence_groups(only):
-            # Each group is ranked over the bodies its worlds have; a world with none is not ranked.
-            keep = [k for k, b in enumerate(bodies) if b < len(present) and present[b]]
-            if not keep:
-                continue
-            group_ids, group_values = self.index.rank(
-                metric, [bodies[k] for k in keep], combine=combine, descending=descending, only=worlds,
-                goals=[goals[k] for k in keep] if goals is not None else None)
-            ids.append(np.asarray(group_ids, dtype=np.int64))
-            values.append(np.asarray(group_values, dtype=np.float64))
-        if not ids:
-            return np.zeros(0, np.int64), np.zeros(0)
-        ids, values = np.concatenate(ids), np.concatenate(values)
-        # Ties keep world-index order, as within the index.
-        order = np.lexsort((ids, -values if descending else values))
-        return ids[order], values[order]
+        ids, values = self.index.rank(metric, list(bodies), combine=combine, descending=descending,
+                                      only=only, goals=goals)
+        return np.asarray(ids, dtype=np.int64), np.asarray(values, dtype=np.float64)

@@ -167,15 +167,17 @@ std::vector<std::pair<uint64_t, double>> PathIndex::rank(const std::string& metr
             values = &world->metric_values[static_cast<size_t>(it - world->metric_names.begin())];
         }
         double combined = combine == Combine::Sum ? 0.0 : -std::numeric_limits<double>::infinity();
+        size_t counted = 0;
         for (size_t k = 0; k < bodies.size(); ++k) {
             if (bodies[k] >= body_radii_m_.size()) throw std::out_of_range("ranking names body " + std::to_string(bodies[k]));
-            // Bodies the world does not have add nothing.
+            // A world is ranked over the bodies it has (bodies can be added and removed).
             if (bodies[k] >= world->paths.size() || world->paths[bodies[k]].point_count() == 0) continue;
             const double v = to_goal ? quat_angle_between(world->final_orientations[bodies[k]], (*goals)[k])
                                      : (*values)[bodies[k]];
             combined = combine == Combine::Sum ? combined + v : std::max(combined, v);
+            ++counted;
         }
-        ranked.emplace_back(world->world_index, combined);
+        if (counted > 0 || bodies.empty()) ranked.emplace_back(world->world_index, combined);
     }
     // Ties keep world order, so a ranking is reproducible.
     std::stable_sort(ranked.begin(), ranked.end(), [descending](const auto& a, const auto& b) {

@@ -66,7 +66,8 @@ public:
 
     /// Worlds (all, or `only`) sorted by `metric` combined over `bodies`. Metrics: the stored
     /// ones (see BodyMetrics.h) and "orientation_to_goal_rad" (angle between each body's final
-    /// orientation and `goals`, one per body in `bodies`). Returns (world index, value) pairs.
+    /// orientation and `goals`, one per body in `bodies`). Each world is ranked over the bodies
+    /// of `bodies` it has; a world with none of them is left out. Returns (world index, value) pairs.
     std::vector<std::pair<uint64_t, double>> rank(const std::string& metric, const std::vector<uint32_t>& bodies,
                                                   Combine combine, bool descending,
                                                   const std::vector<uint64_t>* only = nullptr,
