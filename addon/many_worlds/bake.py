@@ -103,7 +103,9 @@ def bake_world(context, world):
     bodies it does not have. Returns (baked object names, hidden object names)."""
     view = SESSION.view
     positions, orientations, record_hz = view.decoded(world)
-    frames = arrays.bake_scene_frames(view.frame_start, view.fps, record_hz, positions.shape[1])
+    # Keys run to the end of the run: a world that came to rest holds its last pose there.
+    frames = arrays.bake_scene_frames(view.frame_start, view.fps, record_hz,
+                                      max(positions.shape[1], view.run_frame_count))
     world_frames = arrays.world_frame_of_scene_frame(frames, view.frame_start, view.fps, record_hz)
     present = view.present(world)
     simulated = view.simulated_bodies()

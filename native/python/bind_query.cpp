@@ -56,6 +56,7 @@ std::vector<IndexedWorldInput> new_worlds(const PathIndex& index, const PyLibrar
         in.stride = w.polyline_stride;
         in.last_frame = w.frame_count - 1;
         in.record_hz = w.record_hz;
+        in.hold_until_s = static_cast<double>(library.reader().run_last_frame()) / w.record_hz;
         const size_t per_path = size_t{w.polyline_points} * 3;
         // Bodies the world does not have get no path; the index then never finds them in a box.
         for (size_t t = 0; t < w.tracks.size(); ++t) {

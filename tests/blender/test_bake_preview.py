@@ -70,7 +70,8 @@ def test_bake_writes_keys_that_match_the_world_and_removes_rigid_bodies(sampled)
     assert bpy.ops.mwb.bake_world() == {"FINISHED"}
     assert not scene.mwb.previewing and scene.rigidbody_world.enabled
     names, positions, orientations, hz = raw_world(1)
-    last_frame = 1 + math.floor((positions.shape[1] - 1) / hz * 24 + 1e-9)
+    # Keys run to the end of the frame range, also when the world came to rest earlier.
+    last_frame = scene.frame_end
     for ob in sampled:
         assert ob.rigid_body is None, "baked objects leave the simulation, as with Bake To Keyframes"
         assert ob.rotation_mode == "QUATERNION"
@@ -81,7 +82,29 @@ def test_bake_writes_keys_that_match_the_world_and_removes_rigid_bodies(sampled)
     for frame in range(1, last_frame + 1):
         scene.frame_set(frame)
         for ob in sampled:
-            check_pose(ob, names, positions, orientations, round((frame - 1) / 24 * hz))
+            check_pose(ob, names, positions, orientations, min(round((frame - 1) / 24 * hz), positions.shape[1] - 1))
+
+
+def test_a_world_that_came_to_rest_is_baked_and_previewed_at_rest_to_the_last_frame(tmp_path):
+    _, boxes = drop_scene(bodies=2, frame_end=145)  # 6 s: the boxes rest long before
+    save_blend(tmp_path)
+    sample_and_wait(2, seed=5)
+    scene = bpy.context.scene
+    names, positions, orientations, hz = raw_world(0)
+    world_end_frame = 1 + (positions.shape[1] - 1) / hz * 24
+    assert world_end_frame < scene.frame_end - 24, "the world must end (at rest) well before the frame range"
+    bpy.ops.mwb.select_world(world=0)
+    scene.frame_set(scene.frame_end)
+    for ob in boxes:
+        check_pose(ob, names, positions, orientations, positions.shape[1] - 1)
+    assert bpy.ops.mwb.bake_world() == {"FINISHED"}
+    for ob in boxes:
+        keys = ob.animation_data.action.fcurves[0].keyframe_points
+        assert keys[-1].co.x == scene.frame_end
+    for frame in (math.ceil(world_end_frame) + 1, scene.frame_end):
+        scene.frame_set(frame)
+        for ob in boxes:
+            check_pose(ob, names, positions, orientations, positions.shape[1] - 1)
 
 
 def test_bake_of_200_objects_by_600_frames_matches_its_input():

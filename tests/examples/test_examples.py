@@ -80,3 +80,30 @@ def test_example_builds_exports_samples_and_meets_its_goal(name, tmp_path):
     if must_match:
         assert answer["matching"], f"no world of {worlds} meets the goal of {name}"
     print(f"{name}: {len(answer['matching'])} of {worlds} worlds meet the goal box")
+
+
+NATIVE_FRAME_COUNTS = """
+import sys
+sys.path.insert(0, {addon!r})
+from many_worlds import _native
+library = _native.Library({library!r})
+print("RESULT", library.run_last_frame, *[library.frame_count(w) for w in library.world_indices])
+"""
+
+
+def test_letters_at_rest_stay_in_a_time_windowed_box_whenever_their_world_ended(tmp_path):
+    """Most letter worlds end (every body at rest) before the last second; the letters are still
+    there, so a box over the whole view in the last second matches every world, and the same box
+    as a negative box rejects every world."""
+    blend = os.path.join(ROOT, "blend_examples", "pachinko_letters", "pachinko_letters.blend")
+    library = str(tmp_path / "letters.mwb")
+    cli(blend, "sample", "--worlds", "0:60", "--out", library)
+    counts = subprocess.run(["/usr/bin/python3", "-c", NATIVE_FRAME_COUNTS.format(addon=os.path.join(ROOT, "addon"),
+                                                                                   library=library)],
+                            capture_output=True, text=True, check=True).stdout.split()
+    run_last_frame, frame_counts = int(counts[1]), [int(c) for c in counts[2:]]
+    ended_before_the_window = sum(1 for c in frame_counts if (c - 1) / 120 < 5.0)
+    assert run_last_frame / 120 > 5.5 and ended_before_the_window >= 20, (run_last_frame, frame_counts)
+    whole_view = ["--box", "0,0,1,1", "--objects", "Letter1_W", "--time", "5,6"]
+    assert json_of(cli(blend, "query", library, *whole_view, "--json"))["matching"] == list(range(60))
+    assert json_of(cli(blend, "query", library, *whole_view, "--negative", "--json"))["matching"] == []

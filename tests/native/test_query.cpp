@@ -101,7 +101,10 @@ TEST(PathTree, TreeAnswersEqualBruteForceOnRandomPathsAndBoxes) {
             for (int a = 0; a < 3; ++a) p[a] += random.uniform(-0.15, 0.15);
             points.insert(points.end(), {static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2])});
         }
-        const PathTree tree(points, 4, static_cast<uint32_t>(4 * (n - 1)), 120);
+        // Half the paths end early and hold their last pose up to a later end of the run.
+        const double path_end_s = 4.0 * (n - 1) / 120;
+        const double hold_until_s = random.uniform01() < 0.5 ? path_end_s + random.uniform(0, 6) : 0.0;
+        const PathTree tree(points, 4, static_cast<uint32_t>(4 * (n - 1)), 120, hold_until_s);
         for (int b = 0; b < 25; ++b) {
             const bool ortho = random.uniform01() < 0.5;
             const Matrix4 projection = ortho ? orthographic(-4, 4, -4, 4, 0.5, 20) : perspective(1.2, 1.0, 0.5, 20);
@@ -135,6 +138,40 @@ TEST(PathTree, TimeWindowSelectsWhenThePathIsInside) {
     EXPECT_TRUE(tree.touches(f, {5.5, 5.6}, 0));
     EXPECT_FALSE(tree.touches(f, {6.1, 10}, 0));
     EXPECT_NEAR(tree.first_time_inside(f), 5.0, 1e-6);
+}
+
+// Along x at 1 m/s from x = -2 until it rests inside the box x in [0, 1] at x = 0.5 (t = 2.5 s);
+// the run ends at 8 s.
+PathTree path_resting_in_box(double hold_until_s) {
+    std::vector<float> points;
+    for (int k = 0; k <= 75; ++k) points.insert(points.end(), {static_cast<float>(-2 + k / 30.0), 0.5f, -5.0f});
+    return PathTree(points, 4, 300, 120, hold_until_s);
+}
+
+TEST(PathTree, AWorldAtRestHoldsItsLastPoseUpToTheRunsEnd) {
+    const Frustum box = make_screen_frustum(kIdentity, orthographic(-1, 1, -1, 1, 1, 10), 100, 100, 50, 50, 100, 100);
+    const PathTree held = path_resting_in_box(8.0);
+    EXPECT_DOUBLE_EQ(held.end_time_s(), 8.0);
+    for (const PathTree* tree : {&held}) {
+        EXPECT_TRUE(tree->touches(box, {5, 6}, 0)) << "the body rests in the box during the last seconds";
+        EXPECT_TRUE(tree->touches_brute_force(box, {5, 6}, 0));
+        EXPECT_TRUE(tree->touches(box, {8, 8}, 0));
+        EXPECT_TRUE(tree->touches(box, {7.5, 12}, 0));
+        EXPECT_TRUE(tree->touches(box, {5, 6}, 0.2)) << "swept";
+        EXPECT_FALSE(tree->touches(box, {8.01, 12}, 0)) << "nothing is posed after the run's end";
+        EXPECT_FALSE(tree->touches_brute_force(box, {8.01, 12}, 0));
+        EXPECT_FALSE(tree->touches(box, {0, 1.9}, 0)) << "before it arrives";
+    }
+    // The same box one metre to the left: the body left it at t = 1 s and never comes back.
+    const Frustum left = make_screen_frustum(kIdentity, orthographic(-1, 1, -1, 1, 1, 10), 100, 100, 0, 50, 50, 100);
+    EXPECT_TRUE(held.touches(left, {0, 2}, 0));
+    EXPECT_FALSE(held.touches(left, {5, 6}, 0));
+    EXPECT_FALSE(held.touches_brute_force(left, {5, 6}, 0));
+    // A run shortened to the world's own end (duration): no pose after it.
+    const PathTree shortened = path_resting_in_box(0);
+    EXPECT_DOUBLE_EQ(shortened.end_time_s(), 2.5);
+    EXPECT_FALSE(shortened.touches(box, {5, 6}, 0));
+    EXPECT_TRUE(shortened.touches(box, {2.5, 6}, 0));
 }
 
 // A synthetic index: world w has body 0 passing through x = w and body 1 resting at the origin.
@@ -194,6 +231,45 @@ TEST(PathIndex, SweptQueriesSeeTheWholeBody) {
     EXPECT_EQ(index.query({box}).matching, (std::vector<uint64_t>{2}));
     box.swept = true;  // 0.05 m from the path: the 0.1 m body touches
     EXPECT_EQ(index.query({box}).matching, (std::vector<uint64_t>{1, 2}));
+}
+
+TEST(PathIndex, WorldsThatEndedEarlyAreSeenAtRestByTimeWindows) {
+    // World w: body 0 slides along x and stops at x = 0.5 after 1 + w seconds; the
+    // run ends at 6 s. Only world 5 runs to the end.
+    PathIndex index({0.1});
+    std::vector<IndexedWorldInput> inputs;
+    for (int w = 0; w < 6; ++w) {
+        IndexedWorldInput in;
+        in.world_index = static_cast<uint64_t>(w);
+        in.stride = 1;
+        in.record_hz = 10;
+        in.hold_until_s = 6;
+        const int frames = 10 * (1 + w) + 1;
+        in.last_frame = static_cast<uint32_t>(frames - 1);
+        std::vector<float> path;
+        for (int k = 0; k < frames; ++k)
+            path.insert(path.end(), {static_cast<float>(-5 + 5.5 * k / (frames - 1)), 0.0f, -5.0f});
+        in.polylines = {path};
+        in.final_orientations = {Quat{1, 0, 0, 0}};
+        inputs.push_back(std::move(in));
+    }
+    index.add_worlds(std::move(inputs), 2);
+    for (const bool swept : {false, true}) {
+        for (const bool brute_force : {false, true}) {
+            QueryBox rest_place = box_over_x(0, 1, false, {0});
+            rest_place.window = {5, 6};
+            rest_place.swept = swept;
+            EXPECT_EQ(index.query({rest_place}, 0, brute_force).matching.size(), 6u)
+                << "every world rests in the box in the last second, whenever it ended";
+            rest_place.negative = true;
+            EXPECT_EQ(index.query({rest_place}, 0, brute_force).matching.size(), 0u)
+                << "a negative box over the resting place rejects every world";
+            QueryBox elsewhere = box_over_x(3, 4, true, {0});
+            elsewhere.window = {5, 6};
+            elsewhere.swept = swept;
+            EXPECT_EQ(index.query({elsewhere}, 0, brute_force).matching.size(), 6u);
+        }
+    }
 }
 
 TEST(PathIndex, ANewerQuerySupersedesARunningOne) {

@@ -1,4 +1,5 @@
 """Box queries and rankings through the module, on worlds the engine sampled."""
+import json
 import math
 import os
 
@@ -93,3 +94,46 @@ def test_query_inputs_are_checked(native, sampled):
         index.rank("happiness", [0])
     with pytest.raises(ValueError, match="combine"):
         index.rank("collision_count", [0], combine="median")
+
+
+def test_worlds_and_refined_children_hold_their_rest_pose_to_the_runs_end(native, engine, tmp_path):
+    """A box around where a body rests, with a time window at the very end of the run, matches
+    every world (sampled or refined, ending earlier or later than its parent); the same box as
+    a negative box rejects every world."""
+    out = tmp_path / "rest.mwb"
+    # The quick start's die and its chute (round toys roll on for ever); over eight seconds every
+    # world comes to rest and ends before the run does.
+    with open(os.path.join(SCENES, "quickstart.json")) as f:
+        scene_json = json.load(f)
+    scene_json["bodies"] = [b for b in scene_json["bodies"] if b["name"] in ("Ground", "Chute", "Die")]
+    die_scene = tmp_path / "die.json"
+    die_scene.write_text(json.dumps(scene_json))
+    assert run_engine(engine, "sample", "--scene", str(die_scene), "--out", str(out), "--seed", "8",
+                      "--worlds", "0:6", "--duration", "8").returncode == 0
+    lib = native.Library(str(out))
+    scene = native.Scene.from_json(lib.header["scene_json"])
+    die = scene.body_names.index("Die")
+    result = run_engine(engine, "refine", "--library", str(out), "--world", "2", "--bodies", str(die),
+                        "--time", "1.0", "--count", "6")
+    assert result.returncode == 0, result.stderr
+    lib = native.Library(str(out))
+    index = native.PathIndex(native.body_bounding_radii(scene))
+    index.add_library(lib)
+    run_end_s = lib.run_last_frame / 120
+    frame_counts = {w: lib.frame_count(w) for w in lib.world_indices}
+    assert any(c - 1 < lib.run_last_frame - 120 for c in frame_counts.values()), "some world must end early"
+    children = [w for w in lib.world_indices if lib.world_info(w)["parent_world"] == 2]
+    assert len(children) == 6 and any(frame_counts[c] != frame_counts[2] for c in children)
+    view, projection, size = look_at([3, -8, 6], [3, 0, 0]), perspective(0.9, 1.6, 0.1, 100), (1600, 1000)
+    for body in (die,):
+        for w in lib.world_indices:
+            x, y = screen_of(view, projection, size, lib.positions(w)[body, -1])
+            rect = (x - 4, y - 4, x + 4, y + 4)
+            for swept in (False, True):
+                box = native.QueryBox(view, projection, size, rect, bodies=[body], swept=swept,
+                                      time_window=(run_end_s - 0.05, run_end_s))
+                negative = native.QueryBox(view, projection, size, rect, negative=True, bodies=[body], swept=swept,
+                                           time_window=(run_end_s - 0.05, run_end_s))
+                for brute_force in (False, True):
+                    assert w in index.query([box], brute_force=brute_force)["matching"], (w, body, swept)
+                    assert w not in index.query([negative], brute_force=brute_force)["matching"], (w, body, swept)

@@ -35,6 +35,8 @@ class LibraryView:
         world = self.scene.get("world", {})
         self.frame_start = int(world.get("frame_start", 1))
         self.fps = float(world.get("fps", 24.0))
+        # Recorded frames of the whole run: a world that ended at rest holds its last pose until here.
+        self.run_frame_count = int(self.library.run_last_frame) + 1
         self._add_worlds()
 
     def _read_scene(self):

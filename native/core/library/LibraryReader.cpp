@@ -77,6 +77,17 @@ void LibraryReader::read_header(const std::vector<uint8_t>& bytes) {
     try {
         const nlohmann::json scene = nlohmann::json::parse(scene_json_);
         for (const auto& body : scene.at("bodies")) body_names_.push_back(body.at("name").get<std::string>());
+        WorldSettings world;
+        if (scene.contains("world")) {
+            const nlohmann::json& w = scene.at("world");
+            world.frame_start = w.value("frame_start", world.frame_start);
+            world.frame_end = w.value("frame_end", world.frame_end);
+            world.fps = w.value("fps", world.fps);
+        }
+        const double duration_s = run_duration_s(header_.parameters, world);
+        if (!(duration_s >= 0 && duration_s * header_.parameters.record_hz < 1e9))
+            throw LibraryError(path_ + ", byte 16: the run header's frame range or duration is not usable");
+        run_last_frame_ = mwb::run_last_frame(header_.parameters, world);
     } catch (const nlohmann::json::exception& error) {
         throw LibraryError(path_ + ", byte 16: the run header's scene has no readable body list (" + error.what() + ")");
     }

@@ -43,6 +43,9 @@ public:
     /// are appended, so body indices hold across revisions).
     const std::string& scene_json() const { return scene_json_; }
     size_t scene_body_count() const { return body_names_.size(); }
+    /// The run's last recorded frame: a world that ends earlier (at rest) holds its final pose up
+    /// to this frame, and no world has a pose beyond it.
+    uint64_t run_last_frame() const { return run_last_frame_; }
     /// 0 while the scene is the header's.
     uint32_t scene_revision() const { return scene_revision_; }
     const std::vector<StoredWorld>& worlds() const { return worlds_; }
@@ -74,6 +77,7 @@ private:
     std::string scene_json_;
     std::vector<std::string> body_names_;
     uint32_t scene_revision_ = 0;
+    uint64_t run_last_frame_ = 0;
     std::vector<StoredWorld> worlds_;
     std::map<uint64_t, size_t> positions_;  ///< world index -> position in worlds_
     std::vector<StoredRejection> rejections_;

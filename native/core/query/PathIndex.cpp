@@ -44,7 +44,8 @@ std::unique_ptr<PathIndex::World> PathIndex::build_world(IndexedWorldInput&& inp
     world->paths.reserve(input.polylines.size());
     for (std::vector<float>& polyline : input.polylines) {
         world->root_spheres.push_back(bounding_sphere(polyline));
-        world->paths.emplace_back(std::move(polyline), input.stride, input.last_frame, input.record_hz);
+        world->paths.emplace_back(std::move(polyline), input.stride, input.last_frame, input.record_hz,
+                                  input.hold_until_s);
     }
     world->final_orientations = std::move(input.final_orientations);
     world->metric_names = std::move(input.metric_names);

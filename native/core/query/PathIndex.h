@@ -28,6 +28,8 @@ struct IndexedWorldInput {
     uint32_t stride = 4;        ///< recorded frames per polyline point
     uint32_t last_frame = 0;    ///< frame_count - 1
     double record_hz = 120;
+    /// The run's end, seconds: a world that ended earlier (at rest) holds its final pose up to it.
+    double hold_until_s = 0;
     std::vector<std::vector<float>> polylines;  ///< per body, flat (points, 3)
     std::vector<Quat> final_orientations;       ///< per body
     std::vector<std::string> metric_names;

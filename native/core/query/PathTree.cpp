@@ -52,10 +52,14 @@ std::array<Vec3, 3> principal_axes(std::array<double, 9> a) {
 
 }  // namespace
 
-PathTree::PathTree(std::vector<float> points, uint32_t stride, uint32_t last_frame, double record_hz)
+PathTree::PathTree(std::vector<float> points, uint32_t stride, uint32_t last_frame, double record_hz,
+                   double hold_until_s)
     : stride_(std::max<uint32_t>(1, stride)), last_frame_(last_frame), record_hz_(record_hz) {
     quantize(points);
-    if (point_count() > 0) build(0, static_cast<uint32_t>(point_count() - 1), 0);
+    if (point_count() > 0) {
+        hold_end_s_ = std::max(time_of(point_count() - 1), hold_until_s);
+        build(0, static_cast<uint32_t>(point_count() - 1), 0);
+    }
 }
 
 void PathTree::quantize(const std::vector<float>& points) {
@@ -74,6 +78,10 @@ void PathTree::quantize(const std::vector<float>& points) {
         for (size_t k = 0; k < n; ++k)
             points_[3 * k + a] = step_[a] > 0 ? static_cast<uint16_t>(std::lround((points[3 * k + a] - lo[a]) / step_[a])) : 0;
     }
+}
+
+double PathTree::end_of(uint32_t last_point) const {
+    return last_point + 1 == point_count() ? hold_end_s_ : time_of(last_point);
 }
 
 double PathTree::time_of(size_t k) const {
@@ -139,10 +147,10 @@ int32_t PathTree::build(uint32_t first, uint32_t last, int depth) {
 
 bool PathTree::segments_touch(uint32_t first, uint32_t last, const Frustum& frustum, double t_lo, double t_hi,
                               double radius) const {
-    if (first == last) {  // a one-point path
-        const double t = time_of(first);
-        return t >= t_lo && t <= t_hi && frustum.touches_segment(point(first), point(first), 0, 1, radius);
-    }
+    // The held last pose: the last point from its own time to the end of the hold.
+    if ((first == last || last + 1 == point_count()) && time_of(last) <= t_hi && end_of(last) >= t_lo &&
+        frustum.touches_segment(point(last), point(last), 0, 1, radius))
+        return true;
     for (uint32_t k = first; k < last; ++k) {
         const double ta = time_of(k), tb = time_of(k + 1);
         if (tb < t_lo || ta > t_hi) continue;
@@ -157,7 +165,7 @@ bool PathTree::segments_touch(uint32_t first, uint32_t last, const Frustum& frus
 
 bool PathTree::node_touches(int32_t index, const Frustum& frustum, double t_lo, double t_hi, double radius) const {
     const Node& node = nodes_[static_cast<size_t>(index)];
-    const double start = time_of(node.first_point), end = time_of(node.last_point);
+    const double start = time_of(node.first_point), end = end_of(node.last_point);
     if (end < t_lo || start > t_hi) return false;
     const int side = frustum.classify_box(
         {node.center[0], node.center[1], node.center[2]},

@@ -18,8 +18,10 @@ struct TimeWindow {
 class PathTree {
 public:
     /// Builds the tree over `points` (flat (n, 3), float32) where point k is at time
-    /// min(k·stride, last_frame) / record_hz.
-    PathTree(std::vector<float> points, uint32_t stride, uint32_t last_frame, double record_hz);
+    /// min(k·stride, last_frame) / record_hz. The last point is held from its time up to
+    /// `hold_until_s` (a world that came to rest before the run's end stays where it rests).
+    PathTree(std::vector<float> points, uint32_t stride, uint32_t last_frame, double record_hz,
+             double hold_until_s = 0);
 
     /// Whether the path comes within `radius` of the frustum during `window` (whole path if
     /// the window is empty). Uses the tree; the answer equals touches_brute_force exactly.
@@ -37,6 +39,8 @@ public:
                 origin_[2] + step_[2] * points_[3 * k + 2]};
     }
     double time_of(size_t k) const;
+    /// Time up to which the path has a pose: its last point's time, or later while that pose is held.
+    double end_time_s() const { return hold_end_s_; }
     size_t memory_bytes() const;
 
 private:
@@ -58,8 +62,12 @@ private:
     std::vector<uint16_t> points_;
     Vec3 origin_{0, 0, 0}, step_{0, 0, 0};
     std::vector<Node> nodes_;
+    /// Time of the last point, or of the segments' end when a point is given.
+    double end_of(uint32_t last_point) const;
+
     uint32_t stride_, last_frame_;
     double record_hz_;
+    double hold_end_s_ = 0;
 };
 
 }  // namespace mwb

@@ -204,9 +204,8 @@ CompiledScene::CompiledScene(Scene scene, const SimulationParameters& parameters
     const double wanted_hz = std::max(parameters_.min_step_hz, world.fps * world.substeps_per_frame);
     steps_per_frame_ = static_cast<uint32_t>(std::max(1.0, std::ceil(wanted_hz / parameters_.record_hz - 1e-9)));
     step_hz_ = parameters_.record_hz * steps_per_frame_;
-    duration_s_ = parameters_.duration_s > 0 ? parameters_.duration_s
-                                             : (world.frame_end - world.frame_start) / world.fps;
-    total_steps_ = static_cast<uint64_t>(std::llround(duration_s_ * parameters_.record_hz)) * steps_per_frame_;
+    duration_s_ = run_duration_s(parameters_, world);
+    total_steps_ = run_last_frame(parameters_, world) * steps_per_frame_;
     steps_per_checkpoint_ = std::max<uint64_t>(
         steps_per_frame_,
         static_cast<uint64_t>(std::llround(parameters_.checkpoint_interval_s * parameters_.record_hz)) * steps_per_frame_);

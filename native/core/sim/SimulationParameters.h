@@ -1,6 +1,9 @@
 #pragma once
 // Parameters of a sampling run that are not part of the scene. Defaults follow SPEC §4.
+#include <cmath>
 #include <cstdint>
+
+#include "scene/Scene.h"
 
 namespace mwb {
 
@@ -32,5 +35,16 @@ struct SimulationParameters {
     /// Record and perturb; off gives the unperturbed reference simulation.
     bool perturb = true;
 };
+
+/// Seconds every world of a run covers: `duration_s` when set, else the scene's frame range.
+inline double run_duration_s(const SimulationParameters& parameters, const WorldSettings& world) {
+    return parameters.duration_s > 0 ? parameters.duration_s : (world.frame_end - world.frame_start) / world.fps;
+}
+
+/// The run's last recorded frame. A world that ends earlier (every body at rest) holds its final
+/// pose from its own last frame up to this one; no world has a pose beyond it.
+inline uint64_t run_last_frame(const SimulationParameters& parameters, const WorldSettings& world) {
+    return static_cast<uint64_t>(std::llround(run_duration_s(parameters, world) * parameters.record_hz));
+}
 
 }  // namespace mwb
