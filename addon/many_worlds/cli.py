@@ -131,26 +131,21 @@ def body_indices(library, objects_text, default="simulated"):
 
 def command_sample(args):
     import bpy
-    from .export import export_and_validate
+    from . import runs
     if args.seeds and args.worlds:
         raise CliError("give --worlds or --seeds, not both")
     settings = getattr(bpy.context.scene, "mwb", None)
     first, end = parse_range(args.seeds or args.worlds or str(getattr(settings, "world_count", 100)),
                              "--seeds" if args.seeds else "--worlds")
-    result, problems = export_and_validate(bpy.context)
-    if result.scene is None or problems:
-        raise CliError("the scene cannot be sampled: " + "; ".join(problems or result.problems or ["no rigid body world"]))
-    for line in result.problems:
-        print(f"many_worlds: warning: {line}", file=sys.stderr)
     out = os.path.abspath(args.out)
-    os.makedirs(os.path.dirname(out), exist_ok=True)
-    scene_json = paths.scene_json_path(out)
-    with open(scene_json, "w") as f:
-        f.write(result.to_json())
-    seed = args.seed if args.seed is not None else int(getattr(settings, "seed", 0))
-    duration = args.duration if args.duration is not None else float(getattr(settings, "duration_s", 0.0))
-    argv = engine.sample_command(paths.engine_path(), scene_json, out, seed, first, end - first, args.threads or 0,
-                                 duration_s=duration)
+    # The same path as the Sample button: the scene's run settings, --seed and --duration on top.
+    try:
+        argv, warnings = runs.sample_argv(bpy.context, out, first, end - first, args.threads,
+                                          seed=args.seed, duration_s=args.duration)
+    except runs.RunSetupError as error:
+        raise CliError(str(error)[0].lower() + str(error)[1:])
+    for line in warnings:
+        print(f"many_worlds: warning: {line}", file=sys.stderr)
     # The engine keeps every finished world when interrupted; pass Ctrl-C on to it.
     process = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     previous = signal.signal(signal.SIGINT, lambda *_: process.send_signal(signal.SIGINT))
@@ -381,7 +376,7 @@ def build_parser():
     p.add_argument("--worlds", help="N (worlds 0..N-1) or A:B (worlds A..B-1); default: the scene's world count")
     p.add_argument("--seeds", help="A:B, the same as --worlds A:B")
     p.add_argument("--out", required=True, help="library file (.mwb); an existing one of the same run grows")
-    p.add_argument("--threads", type=int, help="engine threads (default: all cores)")
+    p.add_argument("--threads", type=int, help="engine threads (default: the scene's Threads setting; 0: all cores)")
     p.add_argument("--duration", type=float, help="seconds per world (default: the frame range)")
     p.add_argument("--seed", type=int, help="base seed (default: the scene's)")
     p = commands.add_parser("merge", help="merge libraries of one run")

@@ -194,6 +194,7 @@ int run_info(const EngineOptions& options) {
                      {"scene_hash", scene_hash(reader.header())},
                      {"run_hash", run_hash(reader.header())},
                      {"base_seed", reader.header().base_seed},
+                     {"run", nlohmann::json::parse(run_settings_to_json(reader.header()))},
                      {"scene_revision", reader.scene_revision()},
                      {"warnings", reader.warnings()}};
     if (options.json) {

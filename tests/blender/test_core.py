@@ -34,9 +34,11 @@ def test_sampled_quaternions_stay_on_one_hemisphere_and_interpolate():
 def test_progress_lines_and_command():
     assert engine.parse_progress("MWB-PROGRESS 3 10 world 7\n") == (3, 10, 7)
     assert engine.parse_progress("mwb-engine: something") is None
-    argv = engine.sample_command("/e", "s.json", "l.mwb", 5, 10, 4, 2, duration_s=3.0, stop_at_rest=False)
-    assert argv[argv.index("--worlds") + 1] == "10:14"
+    settings = engine.RunSettings(seed=5, duration_s=3.0, stop_at_rest=False, alpha=0.25)
+    argv = engine.sample_command("/e", "s.json", "l.mwb", settings, 10, 4, 2)
+    assert argv[argv.index("--worlds") + 1] == "10:14" and argv[argv.index("--seed") + 1] == "5"
     assert "--no-stop-at-rest" in argv and argv[argv.index("--duration") + 1] == "3.0"
+    assert argv[argv.index("--alpha") + 1] == "0.25"
     assert paths.scene_json_path("/a/shot.mwb") == "/a/shot.scene.json"
     assert paths.default_library_name("/x/shot.blend") == "shot.mwb"
 

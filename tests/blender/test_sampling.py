@@ -1,6 +1,8 @@
 """Sampling through the Sample operator: the engine runs as a child process, worlds stream into the
 open library and the world list, cancel keeps what finished, and a second press adds worlds."""
+import json
 import os
+import subprocess
 
 import bpy
 import numpy as np
@@ -8,6 +10,7 @@ import pytest
 
 from conftest import cancel_after_finished, drop_scene, sample_and_wait, save_blend
 
+import many_worlds
 from many_worlds import _native
 from many_worlds.core.session import SESSION
 
@@ -87,3 +90,53 @@ def test_an_unsampleable_scene_is_refused_before_the_engine_starts(tmp_path):
         bpy.ops.mwb.sample()
     assert SESSION.engine is None
     assert not os.path.exists(str(tmp_path / "shot.mwb"))
+
+
+def run_cli(blend, *args):
+    """The add-on's command line in another Blender, as a farm task runs it."""
+    cli = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(many_worlds.__file__))), "many_worlds", "cli.py")
+    result = subprocess.run(["blender", "-b", blend, "--python-exit-code", "1", "--python", cli, "--", *args],
+                            capture_output=True, text=True)
+    assert result.returncode == 0, result.stdout[-1500:] + result.stderr[-1500:]
+    return result.stdout
+
+
+# One thread: worlds are stored in the order they finish, so only then is the file order fixed too.
+NON_DEFAULT_SETTINGS = dict(seed=7, alpha=0.3, stop_at_rest=False, duration_s=1.25, position_error_mm=2.0,
+                            rotation_error_deg=1.5, threads=1)
+
+
+def test_sample_button_command_line_and_farm_shards_make_one_library(tmp_path):
+    """The same .blend and world range give byte-identical libraries from the Sample button and
+    from the command line, with the scene's non-default run settings; a farm task's shard of the
+    next worlds merges into the library the button started."""
+    drop_scene(bodies=2)
+    for key, value in NON_DEFAULT_SETTINGS.items():
+        setattr(bpy.context.scene.mwb, key, value)
+    blend = save_blend(tmp_path)
+    sample_and_wait(4)
+    button = str(tmp_path / "shot.mwb")
+    assert SESSION.view.path == button and len(SESSION.view.world_indices) == 4
+    from_cli = str(tmp_path / "cli.mwb")
+    run_cli(blend, "sample", "--worlds", "0:4", "--out", from_cli)
+    with open(button, "rb") as a, open(from_cli, "rb") as b:
+        assert a.read() == b.read(), "the command line must sample exactly what the Sample button does"
+
+    info = json.loads(run_cli(blend, "info", button, "--json").split("\n", 2)[-1])
+    run = info["run"]
+    assert run["base_seed"] == 7 and run["alpha_linear"] == pytest.approx(0.3) and run["stop_at_rest"] is False
+    assert run["duration_s"] == pytest.approx(1.25) and run["position_error_max_m"] == pytest.approx(0.002)
+    assert run["rotation_error_max_deg"] == pytest.approx(1.5)
+    defaults = str(tmp_path / "defaults.mwb")
+    engine = os.path.join(os.path.dirname(many_worlds.__file__), "bin", "mwb-engine")
+    subprocess.run([engine, "sample", "--scene", str(tmp_path / "shot.scene.json"), "--out", defaults,
+                    "--worlds", "0:1"], check=True, capture_output=True)
+    assert json.loads(subprocess.run([engine, "info", defaults, "--json"], capture_output=True,
+                                     text=True).stdout)["run_hash"] != info["run_hash"]
+
+    from many_worlds.farm import plan
+    task = plan.sample_command(blend, 4, 6, str(tmp_path / "farm"))
+    subprocess.run(task, check=True, capture_output=True)
+    merged = str(tmp_path / "merged.mwb")
+    run_cli(blend, "merge", merged, button, str(tmp_path / "farm" / plan.shard_name(4, 6)))
+    assert sorted(_native.Library(merged).world_indices) == list(range(6))

@@ -7,6 +7,7 @@ caller polls `progress()` and `finished()` from a timer.
 import signal
 import subprocess
 import threading
+from dataclasses import dataclass
 
 PROGRESS_TAG = "MWB-PROGRESS"
 
@@ -23,16 +24,28 @@ def parse_progress(line):
     return None
 
 
-def sample_command(engine, scene_json, library, seed, first_world, world_count, threads, duration_s=0.0,
-                   stop_at_rest=True, alpha=0.1, position_error_m=0.001, rotation_error_deg=0.5):
-    """The argument list of one `mwb-engine sample` run over worlds [first_world, first_world + world_count)."""
-    argv = [engine, "sample", "--scene", scene_json, "--out", library, "--seed", str(int(seed)),
-            "--worlds", f"{int(first_world)}:{int(first_world + world_count)}", "--threads", str(int(threads)),
-            "--alpha", repr(float(alpha)), "--position-error", repr(float(position_error_m)),
-            "--rotation-error", repr(float(rotation_error_deg)), "--progress"]
-    if duration_s > 0:
-        argv += ["--duration", repr(float(duration_s))]
-    if not stop_at_rest:
+@dataclass(frozen=True)
+class RunSettings:
+    """What a sampling run is besides the scene and the world range; every setting that changes
+    the worlds. Threads are not among them: a world is the same on any thread count."""
+    seed: int = 0
+    duration_s: float = 0.0          # <= 0: the rigid body world's frame range
+    stop_at_rest: bool = True
+    alpha: float = 0.1
+    position_error_m: float = 0.001
+    rotation_error_deg: float = 0.5
+
+
+def sample_command(engine, scene_json, library, settings, first_world, world_count, threads=0):
+    """The argument list of one `mwb-engine sample` run over worlds [first_world, first_world + world_count)
+    with the RunSettings `settings`."""
+    argv = [engine, "sample", "--scene", scene_json, "--out", library, "--seed", str(int(settings.seed)),
+            "--worlds", f"{int(first_world)}:{int(first_world + world_count)}", "--threads", str(int(threads or 0)),
+            "--alpha", repr(float(settings.alpha)), "--position-error", repr(float(settings.position_error_m)),
+            "--rotation-error", repr(float(settings.rotation_error_deg)), "--progress"]
+    if settings.duration_s > 0:
+        argv += ["--duration", repr(float(settings.duration_s))]
+    if not settings.stop_at_rest:
         argv.append("--no-stop-at-rest")
     return argv
 

@@ -10,7 +10,7 @@ import sys
 
 import bpy
 
-from .. import export, preview, props, queries
+from .. import preview, props, queries, runs
 from ..core import engine as engine_process
 from ..core import paths
 from ..core.session import SESSION
@@ -49,28 +49,19 @@ def start_sampling(context):
         return False, "Save the .blend first (the library is written next to it) or set a library path", []
     # Export the user's scene, not the preview's poses.
     preview.end(scene)
-    result, invalid = export.export_and_validate(context)
-    if result.scene is None or invalid:
-        return False, "The scene cannot be sampled: " + "; ".join(invalid or result.problems), result.problems
-    try:
-        engine = paths.engine_path()
-    except FileNotFoundError as error:
-        return False, str(error), result.problems
-    os.makedirs(os.path.dirname(library) or ".", exist_ok=True)
-    scene_json = paths.scene_json_path(library)
-    with open(scene_json, "w") as f:
-        f.write(result.to_json())
     if os.path.isfile(library) and (SESSION.view is None or SESSION.view.path != library):
         browsing.open_library(scene, library)
     if SESSION.view is not None:
         SESSION.view.poll()
     first = next_world_index(SESSION.view)
-    argv = engine_process.sample_command(
-        engine, scene_json, library, settings.seed, first, settings.world_count, settings.threads,
-        duration_s=settings.duration_s, stop_at_rest=settings.stop_at_rest, alpha=settings.alpha,
-        position_error_m=settings.position_error_mm / 1000.0, rotation_error_deg=settings.rotation_error_deg)
+    try:
+        argv, warnings = runs.sample_argv(context, library, first, settings.world_count)
+    except runs.RunSetupError as error:
+        return False, str(error), error.problems
+    except FileNotFoundError as error:
+        return False, str(error), []
     start_run(scene, argv, library, "Sampling", f"Sampling worlds {first} to {first + settings.world_count - 1}")
-    return True, SESSION.status, result.problems
+    return True, SESSION.status, warnings
 
 
 def start_run(scene, argv, library, label, status):

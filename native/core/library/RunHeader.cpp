@@ -87,6 +87,14 @@ RunHeader run_header_from_json(const std::string& text, const std::string& where
     }
 }
 
+std::string run_settings_to_json(const RunHeader& header) {
+    json j = parameters_to_json(header.parameters);
+    j["position_error_max_m"] = header.bounds.position_error_max_m;
+    j["rotation_error_max_deg"] = header.bounds.rotation_error_max_rad * 180 / 3.14159265358979323846;
+    j["base_seed"] = header.base_seed;
+    return j.dump();
+}
+
 std::string run_hash(const RunHeader& header) { return fnv1a_hex(run_header_to_json(header)); }
 
 std::string scene_hash(const RunHeader& header) { return fnv1a_hex(json::parse(header.scene_json).dump()); }

@@ -19,6 +19,9 @@ struct RunHeader {
 std::string run_header_to_json(const RunHeader& header);
 /// Throws LibraryError naming `where` when the JSON is malformed or lacks a field.
 RunHeader run_header_from_json(const std::string& text, const std::string& where);
+/// Everything but the scene, as one flat JSON object: the simulation parameters, the codec
+/// bounds (position_error_max_m, rotation_error_max_deg) and the base seed.
+std::string run_settings_to_json(const RunHeader& header);
 /// 16 hex digits identifying (scene, parameters, bounds, base seed); equal for shards of one run.
 std::string run_hash(const RunHeader& header);
 /// 16 hex digits identifying the scene alone.
