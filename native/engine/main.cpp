@@ -16,9 +16,8 @@
 #include "library/LibraryReader.h"
 #include "library/LibraryFormat.h"
 #include "library/LibraryWriter.h"
-#include "library/SceneRevision.h"
+#include "refine/StoredWorldRefinement.h"
 #include "sampler/Sampler.h"
-#include "scene/BodyChanges.h"
 #include "scene/SceneJson.h"
 #include "sim/WorldSimulator.h"
 
@@ -61,47 +60,17 @@ int run_sample(const EngineOptions& options) {
     return g_progress.cancel ? 130 : 0;
 }
 
-// Bodies a refine run adds to or removes from its world, and the library scene that has them.
-struct SceneChange {
-    Scene scene;
-    bool revised = false;  ///< the scene gained bodies: a scene revision must be stored
-    std::vector<uint32_t> added{}, removed{};
-};
-
-SceneChange change_scene(const LibraryReader& reader, const StoredWorld& parent, const EngineOptions& options) {
-    SceneChange change{scene_from_json(reader.scene_json())};
-    if (options.add_bodies.empty() && options.remove_bodies.empty() && options.update_bodies.empty()) return change;
-    std::vector<uint8_t> present(change.scene.bodies.size(), 0);
-    for (size_t i = 0; i < parent.tracks.size() && i < present.size(); ++i) present[i] = parent.tracks[i].present;
-    const Scene source = options.scene_path.empty() ? Scene{} : load_scene_file(options.scene_path);
-    try {
-        const BodyChanges changes = change_bodies(change.scene, present, source, options.add_bodies,
-                                                  options.remove_bodies, options.update_bodies);
-        change.added = changes.added;
-        change.removed = changes.removed;
-        change.revised = changes.scene_grew;
-    } catch (const SceneChangeError& error) {
-        std::string message = error.what();
-        std::replace(message.begin(), message.end(), '\n', ';');
-        throw UsageError("world " + std::to_string(parent.world_index) + ": " + message);
-    }
-    return change;
-}
-
-std::string describe_change(const EngineOptions& options, const SceneChange& change, uint64_t frame, double record_hz) {
-    if (change.added.empty() && change.removed.empty()) {
+std::string describe_change(const EngineOptions& options, const RefineOutcome& outcome, double record_hz) {
+    if (outcome.added.empty() && outcome.removed.empty()) {
         std::ostringstream at;
-        at << "at " << frame / record_hz << " s";
+        at << "at " << outcome.branch_frame / record_hz << " s";
         return at.str();
     }
     std::string text;
-    auto list = [](const std::vector<std::string>& names) {
-        std::string out;
-        for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
-        return out;
-    };
     auto join = [&](const char* verb, const std::vector<std::string>& names) {
-        if (!names.empty()) text += (text.empty() ? "" : ", ") + std::string(verb) + " " + list(names);
+        if (names.empty()) return;
+        text += (text.empty() ? "" : ", ") + std::string(verb) + " ";
+        for (size_t k = 0; k < names.size(); ++k) text += (k ? ", " : "") + names[k];
     };
     join("adding", options.add_bodies);
     join("removing", options.remove_bodies);
@@ -109,63 +78,40 @@ std::string describe_change(const EngineOptions& options, const SceneChange& cha
     return text;
 }
 
-// Refines one stored world: re-creates its exact lineage, then appends `count` children that
-// branch at the given time, or that add or remove bodies from t = 0, each with its own
-// perturbations.
+// Refines one stored world (see refine_stored_world): `count` children that branch at the given
+// time, or that add or remove bodies from t = 0.
 int run_refine(const EngineOptions& options) {
     const LibraryReader reader(options.output_path);
-    const RunHeader& header = reader.header();
-    const StoredWorld* parent = nullptr;
-    uint64_t next_index = 0;
-    for (const StoredWorld& w : reader.worlds()) {
-        if (w.world_index == options.parent_world) parent = &w;
-        next_index = std::max(next_index, w.world_index + 1);
-    }
-    for (const StoredRejection& r : reader.rejections()) next_index = std::max(next_index, r.world_index + 1);
-    if (!parent) throw UsageError("no world " + std::to_string(options.parent_world) + " in " + options.output_path);
-    SceneChange change = change_scene(reader, *parent, options);
-    const size_t sampled_bodies = scene_from_json(header.scene_json).bodies.size();
-    const Scene scene = change.scene;
-    CompiledScene compiled(std::move(change.scene), header.parameters, sampled_bodies);
-    const uint64_t root = parent->lineage.empty() ? parent->world_index : parent->root_world;
-    std::vector<WorldResult> chain = simulate_lineage(compiled, header.base_seed, root, parent->lineage);
-    if (chain.back().frame_count != parent->frame_count || chain.back().contacts.size() != parent->contacts.size())
-        throw UsageError("world " + std::to_string(parent->world_index) + " does not come out as stored: the library "
-                         "was made by a different engine build");
-    const bool changes_scene = !change.added.empty() || !change.removed.empty();
-    const uint64_t frame =
-        changes_scene ? 0 : static_cast<uint64_t>(std::floor(options.branch_time_s * compiled.parameters().record_hz));
-    const uint64_t first = options.first_child >= 0 ? static_cast<uint64_t>(options.first_child) : next_index;
-    std::vector<RefineStep> children;
-    for (uint64_t k = 0; k < options.world_count; ++k)
-        children.push_back({frame * compiled.steps_per_frame(), first + k, options.bodies, change.added, change.removed});
-    try {
-        check_refinement(compiled, chain, children.front());
-    } catch (const std::invalid_argument& error) {
-        throw UsageError(error.what());
-    }
-    LibraryWriter writer(options.output_path, header);
-    if (change.revised)
-        writer.append_record(kRecordTypeSceneRevision, kSceneRevisionRecordVersion,
-                             encode_scene_revision({reader.scene_revision() + 1, scene_to_json(scene)}));
+    RefineRequest request;
+    request.parent_world = options.parent_world;
+    request.bodies = options.bodies;
+    request.branch_time_s = options.branch_time_s;
+    request.count = options.world_count;
+    request.first_child = options.first_child;
+    request.add = options.add_bodies;
+    request.remove = options.remove_bodies;
+    request.update = options.update_bodies;
+    if (!options.scene_path.empty()) request.source_scene = load_scene_file(options.scene_path);
+    request.threads = options.threads;
+    LibraryWriter writer(options.output_path, reader.header());
     std::signal(SIGINT, request_cancel);
     std::signal(SIGTERM, request_cancel);
     uint64_t stored = 0;
-    const SamplingStatistics stats = refine_worlds(compiled, header.base_seed, chain, children, options.threads,
-                                                   [&](WorldResult&& world) {
-                                                       writer.append(world);
-                                                       if (world.status != WorldStatus::Cancelled) ++stored;
-                                                       if (options.progress) {
-                                                           std::cerr << "MWB-PROGRESS " << stored << " " << children.size()
-                                                                     << " world " << world.world_index << "\n";
-                                                           std::cerr.flush();
-                                                       }
-                                                   },
-                                                   &g_progress);
-    std::cout << "refined world " << parent->world_index << " "
-              << describe_change(options, change, frame, compiled.parameters().record_hz) << " into worlds " << first
-              << ".." << first + options.world_count - 1 << ": " << stats.worlds_ok << " stored, "
-              << stats.worlds_rejected << " rejected in " << stats.wall_time_s << " s\n";
+    const RefineOutcome outcome = refine_stored_world(
+        reader, request, writer,
+        [&](WorldResult&& world) {
+            if (world.status != WorldStatus::Cancelled) ++stored;
+            if (options.progress) {
+                std::cerr << "MWB-PROGRESS " << stored << " " << request.count << " world " << world.world_index << "\n";
+                std::cerr.flush();
+            }
+        },
+        &g_progress);
+    const SamplingStatistics& stats = outcome.statistics;
+    std::cout << "refined world " << options.parent_world << " "
+              << describe_change(options, outcome, reader.header().parameters.record_hz) << " into worlds "
+              << outcome.first_child << ".." << outcome.first_child + options.world_count - 1 << ": " << stats.worlds_ok
+              << " stored, " << stats.worlds_rejected << " rejected in " << stats.wall_time_s << " s\n";
     return g_progress.cancel ? 130 : 0;
 }
 
@@ -244,6 +190,9 @@ int main(int argc, char** argv) {
         return mwb::run(args);
     } catch (const mwb::UsageError& error) {
         std::cerr << "mwb-engine: " << error.what() << "\n" << mwb::engine_usage();
+        return 2;
+    } catch (const mwb::RefineError& error) {
+        std::cerr << "mwb-engine: " << error.what() << "\n";
         return 2;
     } catch (const mwb::SceneError& error) {
         std::cerr << "mwb-engine: invalid scene:\n" << error.what() << "\n";

@@ -78,6 +78,8 @@ void bind_library(py::module_& m) {
         .def_property_readonly("scene_json", [](const PyLibrary& l) { return l.reader().scene_json(); },
                                "the library's scene now: the sampled scene plus bodies added to worlds since, "
                                "appended (a body's index never changes); grows on poll()")
+        .def_property_readonly("next_world_index", [](const PyLibrary& l) { return l.reader().next_world_index(); },
+                               "first world index after every world, stored or rejected: where new worlds go")
         .def_property_readonly("run_last_frame", [](const PyLibrary& l) { return l.reader().run_last_frame(); },
                                "the run's last recorded frame: a world that ended earlier (every body at rest) holds\n"
                                "its final pose up to this frame; no world has a pose beyond it")

@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 
 #include "library/LibraryWriter.h"
+#include "refine/StoredWorldRefinement.h"
 #include "sampler/Sampler.h"
 #include "scene/SceneJson.h"
 #include "sim/OdeRandom.h"
@@ -135,24 +136,31 @@ void bind_sampler(py::module_& m) {
         "Returns them sorted by index; on_world(world) is called as each finishes (completion order).\n"
         "For scripting and tests: bulk sampling from Blender runs the mwb-engine executable instead.");
 
+    py::register_exception<RefineError>(m, "RefineError", PyExc_ValueError);
     m.def(
-        "sample_to_library",
-        [](const Scene& scene, const SimulationParameters& parameters, const std::string& path, uint64_t base_seed,
-           uint64_t first_world, uint64_t world_count, int threads, double position_error_max_m,
-           double rotation_error_max_rad) {
-            RunHeader header{scene_to_json(scene), parameters, CodecBounds{position_error_max_m, rotation_error_max_rad},
-                             base_seed};
-            CompiledScene compiled(scene, parameters);
-            LibraryWriter writer(path, header);
+        "refine_stored_world",
+        [](const std::string& library, uint64_t world, std::vector<uint32_t> bodies, double branch_time_s,
+           uint64_t count, int threads, int64_t first_child) {
+            RefineRequest request;
+            request.parent_world = world;
+            request.bodies = std::move(bodies);
+            request.branch_time_s = branch_time_s;
+            request.count = count;
+            request.threads = threads;
+            request.first_child = first_child;
             py::gil_scoped_release release;
-            const SamplingStatistics stats = sample_worlds(compiled, base_seed, first_world, world_count, threads,
-                                                           [&](WorldResult&& w) { writer.append(w); });
-            return std::make_pair(stats.worlds_ok, stats.worlds_rejected);
+            const LibraryReader reader(library);
+            LibraryWriter writer(library, reader.header());
+            const RefineOutcome outcome = refine_stored_world(reader, request, writer);
+            std::vector<uint64_t> children;
+            for (uint64_t k = 0; k < count; ++k) children.push_back(outcome.first_child + k);
+            return std::make_tuple(children, outcome.statistics.worlds_ok, outcome.statistics.worlds_rejected);
         },
-        py::arg("scene"), py::arg("parameters"), py::arg("path"), py::arg("base_seed"), py::arg("first_world"),
-        py::arg("world_count"), py::arg("threads") = 0, py::arg("position_error_max_m") = 0.001,
-        py::arg("rotation_error_max_rad") = 0.5 * 3.14159265358979323846 / 180,
-        "Sample worlds in this process straight into a library file; returns (stored, rejected).");
+        py::arg("library"), py::arg("world"), py::arg("bodies"), py::arg("branch_time_s"), py::arg("count"),
+        py::arg("threads") = 0, py::arg("first_child") = -1,
+        "Refine a stored world in this process (GIL released): append `count` children of `world` that re-simulate\n"
+        "`bodies` from branch_time_s (snapped down to a recorded frame) to the library file. Returns\n"
+        "(child world indices, stored, rejected). Raises RefineError when the request does not fit the library.");
 
     m.def("ode_random_calls_on_this_thread", &ode_random_calls_on_this_thread,
           "dRandInt calls on this thread that reached the engine's per-world generator.");

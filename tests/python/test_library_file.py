@@ -60,7 +60,12 @@ def test_kill_9_at_random_moments_never_loses_finished_worlds(native, engine, tm
         proc = subprocess.Popen([engine, "sample", "--scene", QUICKSTART, "--out", str(out), "--seed", "4",
                                  "--worlds", "0:120", "--threads", "2"],
                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        time.sleep(rng.uniform(0.0, 0.25))
+        # Kill once the file has grown by a random amount (about one to four worlds), so every kill
+        # lands mid-run however fast or loaded the machine is.
+        before = out.stat().st_size if out.exists() else 0
+        grow = rng.randint(1, 12000)
+        while proc.poll() is None and (not out.exists() or out.stat().st_size < before + grow):
+            time.sleep(0.001)
         proc.send_signal(signal.SIGKILL)
         proc.wait()
         if not out.exists():
@@ -73,7 +78,7 @@ def test_kill_9_at_random_moments_never_loses_finished_worlds(native, engine, tm
             np.testing.assert_array_equal(lib.positions(w), reference.positions(w))
         assert all("incomplete" in message for message in lib.warnings)
         interrupted += len(lib.world_indices) < 120
-    assert interrupted >= 6, "most kills landed mid-run"
+    assert interrupted >= 10, "the kills land mid-run"
     # Finishing the interrupted run gives the same worlds as the uninterrupted one.
     sample(engine, out, "--worlds", "0:120")
     final = native.Library(str(out))
@@ -98,7 +103,7 @@ def test_ctrl_c_keeps_finished_worlds(native, engine, tmp_path):
 
 def test_a_follower_sees_worlds_while_the_engine_writes(native, engine, tmp_path):
     out = tmp_path / "live.mwb"
-    proc = subprocess.Popen([engine, "sample", "--scene", QUICKSTART, "--out", str(out), "--worlds", "0:40",
+    proc = subprocess.Popen([engine, "sample", "--scene", QUICKSTART, "--out", str(out), "--worlds", "0:200",
                              "--threads", "1"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     while not out.exists() or out.stat().st_size == 0:
         time.sleep(0.01)
@@ -111,8 +116,10 @@ def test_a_follower_sees_worlds_while_the_engine_writes(native, engine, tmp_path
         time.sleep(0.02)
     lib.poll()
     counts.append(len(lib.world_indices))
-    assert counts[-1] == 40
-    assert counts[0] < 40, "the follower started before the run ended"
+    assert counts[-1] == 200
+    # Whatever the timing: the follower ends with every world, and saw them arrive in order.
+    assert counts == sorted(counts)
+    assert len(set(counts)) >= 2, "the follower saw worlds arrive while the engine wrote"
     assert counts == sorted(counts)
     assert lib.warnings == []
 
@@ -323,3 +330,24 @@ def test_an_object_moved_after_sampling_is_updated_in_new_worlds(native, engine,
     assert result.returncode == 0, result.stderr
     lib = native.Library(str(out))
     assert lib.body_count == new_can + 1 and lib.present(4)[can] and not lib.present(4)[new_can]
+
+
+def test_refinement_in_this_process_equals_the_engines(native, engine, tmp_path):
+    """The module and the engine refine through the same core function: the same request on two
+    copies of a library appends the same bytes, and the next world index comes from the library."""
+    by_engine, in_process = tmp_path / "engine.mwb", tmp_path / "module.mwb"
+    # One thread: worlds are stored as they finish, so only then is the file order fixed too.
+    sample(engine, by_engine, "--worlds", "0:3", "--threads", "1")
+    sample(engine, in_process, "--worlds", "0:3", "--threads", "1")
+    die = native.Scene.from_json(native.Library(str(by_engine)).header["scene_json"]).body_names.index("Die")
+    assert native.Library(str(in_process)).next_world_index == 3
+    result = run_engine(engine, "refine", "--library", str(by_engine), "--world", "1", "--bodies", str(die),
+                        "--time", "1.0", "--count", "3", "--threads", "1")
+    assert result.returncode == 0, result.stderr
+    children, stored, rejected = native.refine_stored_world(str(in_process), 1, [die], 1.0, 3, threads=1)
+    assert children == [3, 4, 5] and (stored, rejected) == (3, 0)
+    assert by_engine.read_bytes() == in_process.read_bytes()
+    assert native.Library(str(in_process)).next_world_index == 6
+    with pytest.raises(native.RefineError, match="no world 42"):
+        native.refine_stored_world(str(in_process), 42, [die], 1.0, 1)
+    assert by_engine.read_bytes() == in_process.read_bytes(), "a refused request writes nothing"

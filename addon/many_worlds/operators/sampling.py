@@ -32,10 +32,7 @@ def _set_status_text(text):
 
 def next_world_index(view):
     """First world index after every world (stored or rejected) the library already holds."""
-    if view is None:
-        return 0
-    seen = list(view.world_indices) + [r[0] for r in view.library.rejections]
-    return max(seen) + 1 if seen else 0
+    return 0 if view is None else int(view.library.next_world_index)
 
 
 def start_sampling(context):

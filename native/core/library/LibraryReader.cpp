@@ -57,6 +57,13 @@ void LibraryReader::load(const std::vector<uint8_t>& bytes) {
     parse_records(records, offset_, true);
 }
 
+uint64_t LibraryReader::next_world_index() const {
+    uint64_t next = 0;
+    for (const StoredWorld& w : worlds_) next = std::max(next, w.world_index + 1);
+    for (const StoredRejection& r : rejections_) next = std::max(next, r.world_index + 1);
+    return next;
+}
+
 void LibraryReader::read_header(const std::vector<uint8_t>& bytes) {
     if (bytes.size() < sizeof kLibraryMagic || std::memcmp(bytes.data(), kLibraryMagic, sizeof kLibraryMagic) != 0)
         throw LibraryError(path_ + ": not a Many-Worlds library file (bad magic at byte 0)");

@@ -50,6 +50,8 @@ public:
     uint32_t scene_revision() const { return scene_revision_; }
     const std::vector<StoredWorld>& worlds() const { return worlds_; }
     const std::vector<StoredRejection>& rejections() const { return rejections_; }
+    /// First world index after every world, stored or rejected: where a run's new worlds go.
+    uint64_t next_world_index() const;
     /// Records as read, when constructed with keep_raw_records (for merging).
     const std::vector<RawRecord>& raw_records() const { return raw_; }
     const std::vector<std::string>& warnings() const { return warnings_; }
