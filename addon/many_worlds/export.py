@@ -61,6 +61,16 @@ def _mesh_data(ob, rbo, depsgraph):
     return vertices, triangles
 
 
+def _keyed_animated(ob, frame_start, frame_end):
+    """Per frame of the range, whether the object's keyed "Animated" (rigid_body.kinematic) is on;
+    None when it is not keyed."""
+    action = ob.animation_data.action if ob.animation_data is not None else None
+    curve = next((f for f in action.fcurves if f.data_path == "rigid_body.kinematic"), None) if action else None
+    if curve is None:
+        return None
+    return [curve.evaluate(frame) >= 0.5 for frame in range(frame_start, frame_end + 1)]
+
+
 class SceneExporter:
     def __init__(self, scene, depsgraph=None):
         self.scene = scene
@@ -161,14 +171,43 @@ class SceneExporter:
                 self.report(ob.name, f"variation {low}", f"is greater than {high}")
         return out
 
-    def body(self, ob, animation):
+    def animated_span(self, ob, frame_start, frame_end, fps):
+        """(animated at the first frame, seconds until "Animated" is keyed off or None) of one object.
+        Reports the keyings the engine does not follow: switched on after the first frame, or a
+        passive body let go."""
+        flags = _keyed_animated(ob, frame_start, frame_end)
+        if flags is None:
+            return bool(ob.rigid_body.kinematic), None
+        if not flags[0]:
+            if any(flags):
+                self.report(ob.name, "kinematic", "\"Animated\" keyed on after the first frame is not supported; "
+                                                  "the object is simulated throughout")
+            return False, None
+        if all(flags):
+            return True, None
+        off = flags.index(False)
+        if any(flags[off:]):
+            self.report(ob.name, "kinematic", "\"Animated\" keyed on again after it was off is not supported; "
+                                              "the object is simulated from the first time it goes off")
+        if ob.rigid_body.type != "ACTIVE":
+            self.report(ob.name, "kinematic", "\"Animated\" keyed off on a PASSIVE object is not supported; "
+                                              "it follows its animation throughout")
+            return True, None
+        if off == 1:
+            return False, None  # let go before any animated step: simulated from rest, as in Blender
+        # Blender evaluates the flag before stepping into a frame: the body is free from the frame
+        # before the first one keyed off, with the velocity of its last keyed step.
+        return True, (off - 1) / fps
+
+    def body(self, ob, animation, kinematic, animated_until_s=None):
         rbo = ob.rigid_body
         initial, scale = _transform(ob.matrix_world)
-        simulated = rbo.type == "ACTIVE" and not rbo.kinematic
+        simulated = rbo.type == "ACTIVE" and (not kinematic or animated_until_s is not None)
         shape = self.shape(ob, rbo, scale, simulated)
         if shape is None:
             return None
-        body = {"name": ob.name, "type": rbo.type, "kinematic": bool(rbo.kinematic), "enabled": bool(rbo.enabled),
+        body = {"name": ob.name, "type": rbo.type, "kinematic": kinematic and animated_until_s is None,
+                "enabled": bool(rbo.enabled),
                 "shape": shape, "mass_kg": float(rbo.mass), "friction": float(rbo.friction),
                 "restitution": float(rbo.restitution), "use_margin": bool(rbo.use_margin),
                 "collision_margin_m": float(rbo.collision_margin),
@@ -178,8 +217,11 @@ class SceneExporter:
         if rbo.use_deactivation or rbo.use_start_deactivated:
             self.report(ob.name, "use_deactivation", "deactivation is not supported; the engine ends a world "
                                                      "when every body rests")
-        if rbo.kinematic and animation:
+        if kinematic and animation:
             body["animation"] = animation
+        if animated_until_s is not None:
+            # Blender lets the body go with the velocity of its last animated frame; so does the engine.
+            body["animated_until_s"] = animated_until_s
         variation = self.variation(ob)
         if variation:
             body["variation"] = variation
@@ -293,11 +335,13 @@ class SceneExporter:
         objects.sort(key=lambda ob: ob.name)
         frame_was, subframe_was = self.scene.frame_current, self.scene.frame_subframe
         try:
-            animated = [ob for ob in objects if ob.rigid_body.kinematic]
+            spans = {ob.name: self.animated_span(ob, frame_start, frame_end, fps) for ob in objects}
+            animated = [ob for ob in objects if spans[ob.name][0]]
             animations = self.sample_animation(animated, frame_start, frame_end, fps) if animated else {}
             # Initial transforms are those at the rigid body world's first frame.
             self.scene.frame_set(frame_start)
-            bodies = [b for b in (self.body(ob, animations.get(ob.name)) for ob in objects) if b is not None]
+            bodies = [b for b in (self.body(ob, animations.get(ob.name), *spans[ob.name]) for ob in objects)
+                      if b is not None]
             names = {b["name"] for b in bodies}
             constraint_objects = []
             if self.rbw.constraints is not None:

@@ -5,6 +5,7 @@ import math
 
 import bpy
 import numpy as np
+import pytest
 
 from conftest import add_constraint, add_rigid_body, ensure_world, mesh_object
 
@@ -84,4 +85,56 @@ def test_dropped_shapes_come_to_rest_at_the_same_height_in_both():
     for ob, rest in ((crate, 0.3), (ball, 0.25)):
         position, _ = simulate_in_engine(ob.name)
         assert abs(in_blender[ob.name] - rest) < 0.01, (ob.name, in_blender[ob.name])
+        assert abs(position[2] - in_blender[ob.name]) < 0.01, (ob.name, position[2], in_blender[ob.name])
+
+
+def test_a_ball_thrown_by_keyed_animated_flies_on_as_in_blender():
+    # The usual throw: "Animated" keyed on for the first frames while the ball is keyed moving
+    # sideways, then keyed off; Blender lets it go with the animation's velocity, and it flies on
+    # in a parabola. A ball exported as animated throughout would stop dead at its last key.
+    ensure_world()
+    scene = bpy.context.scene
+    scene.frame_start, scene.frame_end = 1, 36
+    scene.rigidbody_world.point_cache.frame_start, scene.rigidbody_world.point_cache.frame_end = 1, 36
+    ball = add_rigid_body(mesh_object("Ball", "uv_sphere", location=(0, 0, 3), radius=0.2), "ACTIVE", shape="SPHERE")
+    ball.rigid_body.linear_damping = ball.rigid_body.angular_damping = 0.0
+    for frame, x, animated in ((1, 0.0, True), (10, 1.5, True), (11, 1.5, False)):
+        ball.location.x = x
+        ball.keyframe_insert("location", frame=frame)
+        ball.rigid_body.kinematic = animated
+        ball.keyframe_insert("rigid_body.kinematic", frame=frame)
+    for curve in ball.animation_data.action.fcurves:
+        for key in curve.keyframe_points:
+            key.interpolation = "LINEAR"
+    from many_worlds.export import export_scene
+    exported = next(b for b in export_scene(scene).scene["bodies"] if b["name"] == "Ball")
+    assert exported["kinematic"] is False and exported["animated_until_s"] == pytest.approx(9 / 24)
+    scene.frame_set(1)
+    in_blender = simulate_in_blender(ball, 36).translation
+    scene.frame_set(1)
+    position, _ = simulate_in_engine("Ball")
+    # Keyed at 1.5 m per 9 frames (4 m/s): 26 free frames later it is far along x and has fallen.
+    assert in_blender.x > 4.0 and in_blender.z < 2.0, tuple(in_blender)
+    assert np.linalg.norm(np.array(position) - np.array(in_blender)) < 0.1, (tuple(position), tuple(in_blender))
+
+
+def test_grounds_of_every_shape_hold_a_dropped_box_at_blenders_height():
+    # A plane as ground with each collision shape Blender offers for it, default margins (0.04 m,
+    # "Collision Margin" unchecked): BOX (a flat box) and MESH (thickened by the margin).
+    ensure_world()
+    scene = bpy.context.scene
+    scene.frame_start, scene.frame_end = 1, 48
+    scene.rigidbody_world.point_cache.frame_start, scene.rigidbody_world.point_cache.frame_end = 1, 48
+    crates = []
+    for k, shape in enumerate(("BOX", "MESH")):
+        plane = mesh_object(f"Ground{shape}", "plane", location=(4 * k, 0, 0), size=3)
+        add_rigid_body(plane, "PASSIVE", shape=shape)
+        crate = add_rigid_body(mesh_object(f"Crate{shape}", location=(4 * k, 0, 1), scale=(0.2, 0.2, 0.2)), "ACTIVE")
+        crates.append(crate)
+    scene.frame_set(1)
+    in_blender = {ob.name: simulate_in_blender(ob, 48).translation.z for ob in crates}
+    scene.frame_set(1)
+    for ob in crates:
+        position, _ = simulate_in_engine(ob.name)
+        assert 0.15 < in_blender[ob.name] < 0.3, (ob.name, in_blender[ob.name])
         assert abs(position[2] - in_blender[ob.name]) < 0.01, (ob.name, position[2], in_blender[ob.name])

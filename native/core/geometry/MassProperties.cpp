@@ -25,8 +25,9 @@ void require_positive(double value, const char* what) {
         throw GeometryError(std::string(what) + " must be a positive finite size, got " + std::to_string(value));
 }
 
-MassProperties box(const Vec3& h, double m) {
-    for (double extent : h) require_positive(extent, "box half extent");
+MassProperties box(Vec3 h, double m) {
+    // A flat BOX (Blender's BOX on a plane) collides as a thin plate; its mass is spread the same way.
+    for (double& extent : h) extent = std::max(extent, 0.0005);
     return diagonal(8 * h[0] * h[1] * h[2], {0, 0, 0}, m * (h[1] * h[1] + h[2] * h[2]) / 3,
                     m * (h[0] * h[0] + h[2] * h[2]) / 3, m * (h[0] * h[0] + h[1] * h[1]) / 3);
 }

@@ -56,6 +56,9 @@ struct Body {
     std::string object;
     BodyType type = BodyType::Active;
     bool kinematic = false;  ///< Blender's "Animated": follows `animation` instead of physics
+    /// > 0: "Animated" keyed off at this time (seconds from the first frame). Until then the body
+    /// follows `animation`; from then on it is simulated, leaving with the animation's velocity.
+    double animated_until_s = 0;
     bool enabled = true;     ///< Blender's "Dynamic" toggle; disabled active bodies stay put
     Shape shape;
     double mass_kg = 1.0;

@@ -290,6 +290,7 @@ void read_body(ObjectReader& o, Body& b) {
     o.optional("object", b.object);
     read_enum(o, "type", "body type", kAll, parse_body_type, b.type, known);
     o.optional("kinematic", b.kinematic);
+    o.optional("animated_until_s", b.animated_until_s);
     o.optional("enabled", b.enabled);
     if (const Json* shape = o.find("shape")) {
         ObjectReader reader(*shape, o.path_of("shape"), o.problems());
@@ -495,6 +496,7 @@ OutJson body_json(const Body& b) {
               {"initial_linear_velocity", b.initial_linear_velocity},
               {"initial_angular_velocity", b.initial_angular_velocity}};
     if (!b.object.empty()) j["object"] = b.object;
+    if (b.animated_until_s > 0) j["animated_until_s"] = b.animated_until_s;
     if (b.has_center_of_mass) j["center_of_mass_local_m"] = b.center_of_mass_local_m;
     if (!b.animation.times_s.empty() || !b.animation.transforms.empty()) {
         OutJson transforms = OutJson::array();

@@ -153,8 +153,16 @@ constexpr int kMaxCompoundDepth = 32;
 void check_shape(Checker& check, const std::string& field, const Shape& shape, bool simulated, int depth) {
     switch (shape.type) {
         case ShapeType::Box:
-            for (int k = 0; k < 3; ++k) check.greater(field + ".half_extents_m" + axis_suffix(k), shape.half_extents_m[k], 0);
+        {
+            // A flat BOX (a plane) is what Blender gives a BOX shape on a plane; a line or a point is not.
+            int flat_axes = 0;
+            for (int k = 0; k < 3; ++k) {
+                check.at_least(field + ".half_extents_m" + axis_suffix(k), shape.half_extents_m[k], 0);
+                flat_axes += shape.half_extents_m[k] == 0;
+            }
+            if (flat_axes > 1) check.fail(field + ".half_extents_m", "has more than one side of length 0 (a flat BOX may have one)");
             break;
+        }
         case ShapeType::Sphere: check.greater(field + ".radius_m", shape.radius_m, 0); break;
         case ShapeType::Capsule:
             check.greater(field + ".radius_m", shape.radius_m, 0);
@@ -193,7 +201,14 @@ void check_animation(Checker& check, const Body& body) {
     for (size_t i = 0; i < track.times_s.size(); ++i) check.finite("animation.times_s" + axis_suffix(static_cast<int>(i)), track.times_s[i]);
     for (size_t i = 0; i < track.transforms.size(); ++i)
         check.transform("animation.transforms" + axis_suffix(static_cast<int>(i)), track.transforms[i]);
-    if (!body.kinematic) return;
+    if (body.animated_until_s != 0) {
+        check.greater("animated_until_s", body.animated_until_s, 0);
+        if (body.kinematic || body.type != BodyType::Active)
+            check.fail("animated_until_s", "is for an ACTIVE body whose \"Animated\" is keyed off; this one is " +
+                                               std::string(body.kinematic ? "animated throughout" : "PASSIVE"));
+        if (track.times_s.empty()) check.fail("animated_until_s", "needs the animation the body follows until then");
+    }
+    if (!body.kinematic && body.animated_until_s <= 0) return;
     if (track.times_s.size() != track.transforms.size())
         check.fail("animation", "has " + std::to_string(track.times_s.size()) + " times_s but " +
                                     std::to_string(track.transforms.size()) + " transforms; they must match");

@@ -17,6 +17,13 @@ constexpr int kConeSegments = 24;
 // Ghosts replay stored motion; a centimetre more catches contacts the 1 mm codec error or the
 // 30 Hz replay could miss.
 constexpr double kGhostMargin_m = 0.01;
+// Blender accepts a BOX on a flat object (a plane), which Bullet collides as a rectangle with no
+// thickness. ODE needs a volume: a flat side becomes a plate of this half thickness, and a static
+// plate lying within 30° of level is thickened below its top face instead, so that fast bodies
+// cannot cross its mid-plane while the face they land on stays where Blender has it.
+constexpr double kFlatBoxHalfThickness_m = 0.0005;
+constexpr double kGroundPlateThickness_m = 0.02;
+constexpr double kGroundPlateMaxTiltCos = 0.866;
 
 Transform compose(const Transform& parent, const Transform& child) {
     return {add(parent.location, quat_rotate(parent.rotation, child.location)),
@@ -46,17 +53,49 @@ std::vector<double> cone_points(double radius, double height) {
     return points;
 }
 
-// Bullet-style collision margin: pushes hull points outward from their centroid.
-void inflate_points(std::vector<double>& xyz, double margin) {
-    Vec3 centroid{0, 0, 0};
+// Bullet's collision margin around a convex shape (its Minkowski sum with a sphere): every face
+// of the hull moves out by `margin`; edges and corners are bevelled instead of rounded.
+void grow_hull_points(std::vector<double>& xyz, double margin) {
+    const ConvexHull hull = compute_convex_hull(xyz);
+    xyz.clear();
+    for (size_t f = 0; f < hull.faces.size(); ++f) {
+        const Vec3 outward = scale({hull.planes[f][0], hull.planes[f][1], hull.planes[f][2]}, margin);
+        for (uint32_t i : hull.faces[f]) {
+            const Vec3 p = add(hull.points[i], outward);
+            xyz.insert(xyz.end(), p.begin(), p.end());
+        }
+    }
+}
+
+// Bullet thickens every triangle of a MESH shape by its collision margin. ODE's triangle meshes
+// have none, so each vertex moves out along its normal by as much as keeps every adjacent face
+// `margin` further out (exact on flat and convex regions, capped at sharp edges).
+void thicken_mesh(std::vector<double>& xyz, const std::vector<uint32_t>& triangles, double margin) {
     const size_t n = xyz.size() / 3;
-    for (size_t i = 0; i < n; ++i) centroid = add(centroid, {xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]});
-    centroid = scale(centroid, 1.0 / static_cast<double>(n));
-    for (size_t i = 0; i < n; ++i) {
-        const Vec3 d = sub({xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]}, centroid);
-        const double len = norm(d);
+    auto vertex = [&](uint32_t i) { return Vec3{xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]}; };
+    std::vector<Vec3> normals(n, Vec3{0, 0, 0}), faces;
+    for (size_t t = 0; t + 2 < triangles.size(); t += 3) {
+        const Vec3 a = vertex(triangles[t]), b = vertex(triangles[t + 1]), c = vertex(triangles[t + 2]);
+        const Vec3 area = cross(sub(b, a), sub(c, a));  // twice the area, along the face normal
+        faces.push_back(area);
+        for (int k = 0; k < 3; ++k) normals[triangles[t + k]] = add(normals[triangles[t + k]], area);
+    }
+    std::vector<double> least_cos(n, 1.0);
+    for (Vec3& v : normals) {
+        const double len = norm(v);
+        v = len > 0 ? scale(v, 1 / len) : Vec3{0, 0, 0};
+    }
+    for (size_t t = 0; t + 2 < triangles.size(); t += 3) {
+        const double len = norm(faces[t / 3]);
         if (len <= 0) continue;
-        for (int k = 0; k < 3; ++k) xyz[3 * i + k] += d[k] / len * margin;
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t i = triangles[t + k];
+            least_cos[i] = std::min(least_cos[i], dot(normals[i], scale(faces[t / 3], 1 / len)));
+        }
+    }
+    for (size_t i = 0; i < n; ++i) {
+        const double reach = margin / std::max(least_cos[i], 1.0 / 3.0);
+        for (int k = 0; k < 3; ++k) xyz[3 * i + k] += normals[i][k] * reach;
     }
 }
 
@@ -97,15 +136,22 @@ double part_bounding_radius(const CollisionPart& part) {
 // Appends the collision parts of `shape` (placed by `placement` in the object frame) to `parts`, in
 // the body frame whose origin is `origin` in the object frame. Like Blender's Bullet, a collision
 // margin lies inside primitive shapes and outside convex hulls; `grow` enlarges every part.
-void compile_shape(const Shape& shape, const Transform& placement, double hull_margin, double grow, const Vec3& origin,
-                   std::vector<CollisionPart>& parts, bool& has_mesh) {
+// Margins as Blender gives them to Bullet (see Body::collision_margin_m): `hull_margin` grows
+// convex hulls, `outer_margin` grows cones and triangle meshes.
+struct Margins {
+    double hull = 0;
+    double outer = 0;
+};
+
+void compile_shape(const Shape& shape, const Transform& placement, const Margins& margins, double grow,
+                   const Vec3& origin, std::vector<CollisionPart>& parts, bool& has_mesh) {
     const double margin = grow;
     CollisionPart part;
     part.offset = {sub(placement.location, origin), placement.rotation};
     switch (shape.type) {
         case ShapeType::Box:
             part.kind = PartKind::Box;
-            part.half_extents_m = add(shape.half_extents_m, {margin, margin, margin});
+            for (int k = 0; k < 3; ++k) part.half_extents_m[k] = std::max(shape.half_extents_m[k], kFlatBoxHalfThickness_m) + margin;
             break;
         case ShapeType::Sphere:
             part.kind = PartKind::Sphere;
@@ -125,26 +171,46 @@ void compile_shape(const Shape& shape, const Transform& placement, double hull_m
         case ShapeType::ConvexHull: {
             std::vector<double> local = shape.type == ShapeType::Cone ? cone_points(shape.radius_m, shape.height_m)
                                                                       : shape.vertices_m;
-            const double outward = grow + (shape.type == ShapeType::ConvexHull ? hull_margin : 0.0);
-            if (outward > 0) inflate_points(local, outward);
+            const double outward = grow + (shape.type == ShapeType::ConvexHull ? margins.hull : margins.outer);
+            if (outward > 0) grow_hull_points(local, outward);
             part = convex_part(place_points(local, placement, origin));
             break;
         }
         case ShapeType::Mesh:
             part.kind = PartKind::TriangleMesh;
-            part.mesh_vertices = place_points(shape.vertices_m, placement, origin);
+            part.mesh_vertices = shape.vertices_m;
+            if (margins.outer + grow > 0) thicken_mesh(part.mesh_vertices, shape.triangles, margins.outer + grow);
+            part.mesh_vertices = place_points(part.mesh_vertices, placement, origin);
             part.mesh_indices = shape.triangles;
             has_mesh = true;
             break;
         case ShapeType::Compound:
             for (const Shape& child : shape.children)
-                compile_shape(child, compose(placement, child.offset), hull_margin, grow, origin, parts, has_mesh);
+                compile_shape(child, compose(placement, child.offset), margins, grow, origin, parts, has_mesh);
             return;
     }
     parts.push_back(std::move(part));
 }
 
-CompiledBody compile_body(const Body& body) {
+// A static BOX whose shape is flat along an axis within 30° of up: its plate grows below the top
+// face (see kGroundPlateThickness_m).
+void thicken_ground_plate(const Body& body, const Vec3& gravity, std::vector<CollisionPart>& parts) {
+    const double g = norm(gravity);
+    if (body.shape.type != ShapeType::Box || parts.size() != 1 || g <= 0) return;
+    for (int axis = 0; axis < 3; ++axis) {
+        if (body.shape.half_extents_m[axis] >= kFlatBoxHalfThickness_m) continue;
+        Vec3 local{0, 0, 0};
+        local[axis] = 1;
+        const double up = -dot(quat_rotate(body.initial.rotation, local), gravity) / g;
+        if (std::fabs(up) < kGroundPlateMaxTiltCos) continue;
+        const double grown = kGroundPlateThickness_m / 2 - kFlatBoxHalfThickness_m;
+        parts[0].half_extents_m[axis] += grown;
+        parts[0].offset.location[axis] -= (up > 0 ? 1 : -1) * (grown + kFlatBoxHalfThickness_m);
+        return;
+    }
+}
+
+CompiledBody compile_body(const Body& body, const Vec3& gravity) {
     CompiledBody out;
     out.kinematic = body.kinematic;
     out.dynamic = body.type == BodyType::Active && body.enabled && !body.kinematic;
@@ -153,10 +219,16 @@ CompiledBody compile_body(const Body& body) {
         out.body_frame_offset_m = body.has_center_of_mass ? body.center_of_mass_local_m : mass.center_of_mass_m;
         out.inertia = mass.inertia;
     }
-    const double margin = body.use_margin ? body.collision_margin_m : 0.0;
-    compile_shape(body.shape, Transform{}, margin, 0.0, out.body_frame_offset_m, out.parts, out.has_mesh);
+    // As in Blender: hulls grow by the margin only when "Collision Margin" is set (otherwise Bullet
+    // shrinks them by 0.04 and adds it back); cones and meshes always grow by it.
+    const Margins margins{body.use_margin ? body.collision_margin_m : 0.0, body.collision_margin_m};
+    compile_shape(body.shape, Transform{}, margins, 0.0, out.body_frame_offset_m, out.parts, out.has_mesh);
     bool ghost_mesh = false;
-    compile_shape(body.shape, Transform{}, margin, kGhostMargin_m, out.body_frame_offset_m, out.ghost_parts, ghost_mesh);
+    compile_shape(body.shape, Transform{}, margins, kGhostMargin_m, out.body_frame_offset_m, out.ghost_parts, ghost_mesh);
+    if (!out.dynamic && !out.kinematic) {
+        thicken_ground_plate(body, gravity, out.parts);
+        thicken_ground_plate(body, gravity, out.ghost_parts);
+    }
     for (const CollisionPart& part : out.parts)
         out.bounding_radius_m = std::max(out.bounding_radius_m, part_bounding_radius(part));
     return out;
@@ -195,7 +267,7 @@ CompiledScene::CompiledScene(Scene scene, const SimulationParameters& parameters
     }
     for (const Body& body : scene_.bodies) {
         try {
-            bodies_.push_back(compile_body(body));
+            bodies_.push_back(compile_body(body, scene_.world.gravity));
         } catch (const GeometryError& error) {
             throw SceneError("body '" + body.name + "'.shape: " + error.what());
         }
@@ -204,6 +276,9 @@ CompiledScene::CompiledScene(Scene scene, const SimulationParameters& parameters
     const double wanted_hz = std::max(parameters_.min_step_hz, world.fps * world.substeps_per_frame);
     steps_per_frame_ = static_cast<uint32_t>(std::max(1.0, std::ceil(wanted_hz / parameters_.record_hz - 1e-9)));
     step_hz_ = parameters_.record_hz * steps_per_frame_;
+    for (size_t i = 0; i < bodies_.size(); ++i)
+        if (bodies_[i].dynamic && scene_.bodies[i].animated_until_s > 0)
+            bodies_[i].handoff_step = static_cast<uint64_t>(std::ceil(scene_.bodies[i].animated_until_s * step_hz_ - 1e-9));
     duration_s_ = run_duration_s(parameters_, world);
     total_steps_ = run_last_frame(parameters_, world) * steps_per_frame_;
     steps_per_checkpoint_ = std::max<uint64_t>(

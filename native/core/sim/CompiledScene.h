@@ -32,6 +32,9 @@ struct CollisionPart {
 struct CompiledBody {
     bool dynamic = false;    ///< simulated: ACTIVE, enabled and not animated
     bool kinematic = false;  ///< follows its animation track
+    /// Dynamic bodies whose "Animated" is keyed off: the step from which they are simulated; until
+    /// then they follow their animation track. 0: simulated from the start.
+    uint64_t handoff_step = 0;
     Vec3 body_frame_offset_m{0, 0, 0};  ///< centre of mass in the object frame (0 if not dynamic)
     std::array<double, 9> inertia{};    ///< about the centre of mass, object axes, for mass_kg
     double bounding_radius_m = 0;       ///< of all parts about the body frame origin

@@ -126,6 +126,8 @@ void OdeWorld::create_bodies() {
                 dBodySetMass(body, &mass);
                 dBodySetLinearVel(body, s.linear_velocity[0], s.linear_velocity[1], s.linear_velocity[2]);
                 dBodySetAngularVel(body, s.angular_velocity[0], s.angular_velocity[1], s.angular_velocity[2]);
+                // Keyed "Animated": the body follows its animation until its handoff step.
+                if (cb.handoff_step > 0) dBodySetKinematic(body);
             } else {
                 dBodySetKinematic(body);
             }

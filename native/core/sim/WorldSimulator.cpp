@@ -149,8 +149,12 @@ public:
     void restore(const Checkpoint& checkpoint) {
         restored_ = &checkpoint;
         step_ = checkpoint.step_index;
-        for (size_t i = 0; i < checkpoint.bodies.size(); ++i)
-            if (compiled_.bodies()[i].dynamic) world_->set_body_state(i, checkpoint.bodies[i]);
+        for (size_t i = 0; i < checkpoint.bodies.size(); ++i) {
+            if (!compiled_.bodies()[i].dynamic) continue;
+            world_->set_body_state(i, checkpoint.bodies[i]);
+            if (compiled_.bodies()[i].handoff_step > 0 && step_ > compiled_.bodies()[i].handoff_step)
+                world_->set_kinematic(i, false);
+        }
         auto& groups = world_->joint_groups();
         for (size_t i = 0; i < groups.size() && i < checkpoint.joint_broken.size(); ++i)
             if (checkpoint.joint_broken[i] && !groups[i].joints.empty()) break_joint(groups[i]);
@@ -231,17 +235,27 @@ private:
         const double t_after = time_at(step_ + 1);
         for (size_t i = 0; i < n; ++i) {
             if (!simulated_[i]) continue;
+            if (animated(i)) {  // driven, not simulated: no impacts, no rest
+                rest_since_s_[i] = -1;
+                continue;
+            }
             if (!after_step(i, t_after)) return;
         }
         check_breaking_joints();
     }
+
+    /// Whether body i follows its keyed animation in the current step (before its handoff).
+    bool animated(size_t i) const { return step_ < compiled_.bodies()[i].handoff_step; }
 
     void drive_kinematic_bodies(double t) {
         if (replay_) drive_replayed_bodies(t);
         const Scene& scene = compiled_.scene();
         const double dt_anim = 1.0 / compiled_.step_hz();
         for (size_t i = 0; i < scene.bodies.size(); ++i) {
-            if (!compiled_.bodies()[i].kinematic || !present_[i]) continue;
+            if (!present_[i]) continue;
+            // At its handoff a keyed body is let go with the velocity its animation gave it last step.
+            if (step_ == compiled_.bodies()[i].handoff_step && step_ > 0 && simulated_[i]) world_->set_kinematic(i, false);
+            if (!compiled_.bodies()[i].kinematic && !(animated(i) && simulated_[i])) continue;
             const Transform& rest = world_->initial_states()[i].pose;
             const Transform now = sample_animation(scene.bodies[i].animation, t, rest);
             const Transform next = sample_animation(scene.bodies[i].animation, t + dt_anim, rest);
@@ -249,6 +263,11 @@ private:
             const double dt = compiled_.physics_dt_s();
             BodyState s{now.location, now.rotation, scale(sub(next.location, now.location), 1.0 / dt),
                         angular_velocity_between(now.rotation, next.rotation, dt)};
+            if (compiled_.bodies()[i].dynamic) {  // a keyed body: ODE holds its centre of mass
+                const Vec3& offset = compiled_.bodies()[i].body_frame_offset_m;
+                s.position_m = add(now.location, quat_rotate(now.rotation, offset));
+                s.linear_velocity = scale(sub(add(next.location, quat_rotate(next.rotation, offset)), s.position_m), 1.0 / dt);
+            }
             dBodyID body = world_->bodies()[i];
             dBodySetPosition(body, s.position_m[0], s.position_m[1], s.position_m[2]);
             dQuaternion q{s.orientation[0], s.orientation[1], s.orientation[2], s.orientation[3]};
@@ -460,7 +479,7 @@ private:
         simulated_[i] = 1;
         result_.changed[i] = 1;
         activated_at_s_[i] = time_at(step_);
-        world_->set_kinematic(i, false);
+        if (!animated(i)) world_->set_kinematic(i, false);
         impact_partner_[i] = kNoImpact;
         rest_since_s_[i] = -1;
         activate_joint_partners(i, true);
