@@ -1,6 +1,7 @@
 #pragma once
 // Small scenes with known physics, built in code for the simulation tests.
 #include <string>
+#include <vector>
 
 #include "scene/Scene.h"
 
@@ -71,16 +72,21 @@ inline Scene pile(int count, double duration_frames = 73) {
 }
 
 /// A passive triangle-mesh ramp (two triangles) tilted 20° with boxes and a jointed pair on it.
+/// A passive triangle-mesh quad (two triangles) through four corners, counter-clockwise from above.
+inline Body mesh_quad(const std::string& name, const std::vector<double>& corners) {
+    Body quad;
+    quad.name = name;
+    quad.type = BodyType::Passive;
+    quad.shape.type = ShapeType::Mesh;
+    quad.shape.vertices_m = corners;
+    quad.shape.triangles = {0, 1, 2, 0, 2, 3};
+    return quad;
+}
+
 inline Scene mesh_ramp_with_joints() {
     Scene s = pile(6, 48);
     s.name = "mesh_ramp";
-    Body ramp;
-    ramp.name = "Ramp";
-    ramp.type = BodyType::Passive;
-    ramp.shape.type = ShapeType::Mesh;
-    ramp.shape.vertices_m = {-1.5, -1.5, 1.0, 1.5, -1.5, 0.2, 1.5, 1.5, 0.2, -1.5, 1.5, 1.0};
-    ramp.shape.triangles = {0, 1, 2, 0, 2, 3};
-    s.bodies.push_back(ramp);
+    s.bodies.push_back(mesh_quad("Ramp", {-1.5, -1.5, 1.0, 1.5, -1.5, 0.2, 1.5, 1.5, 0.2, -1.5, 1.5, 1.0}));
     Body a = box("LinkA", {-1.0, 0.0, 1.6});
     Body b = box("LinkB", {-0.5, 0.0, 1.6});
     a.variation.location_min_m = {-0.1, -0.1, 0};

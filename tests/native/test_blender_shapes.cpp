@@ -62,12 +62,7 @@ TEST(BlenderShapes, ABoxWithTwoFlatSidesIsRefusedClearly) {
 }
 
 TEST(BlenderShapes, AMeshGroundIsThickenedByItsMarginAsInBullet) {
-    Body plane;
-    plane.name = "Plane";
-    plane.type = BodyType::Passive;
-    plane.shape.type = ShapeType::Mesh;
-    plane.shape.vertices_m = {-2, -2, 0, 2, -2, 0, 2, 2, 0, -2, 2, 0};
-    plane.shape.triangles = {0, 1, 2, 0, 2, 3};
+    Body plane = fixtures::mesh_quad("Plane", {-2, -2, 0, 2, -2, 0, 2, 2, 0, -2, 2, 0});
     for (double margin : {0.04, 0.0}) {
         plane.collision_margin_m = margin;  // applied whether or not use_margin is set
         const WorldResult w = simulate_world(CompiledScene(drop_onto(plane), unperturbed()), 1, 0);
