@@ -133,16 +133,15 @@ double part_bounding_radius(const CollisionPart& part) {
     return center;
 }
 
-// Appends the collision parts of `shape` (placed by `placement` in the object frame) to `parts`, in
-// the body frame whose origin is `origin` in the object frame. Like Blender's Bullet, a collision
-// margin lies inside primitive shapes and outside convex hulls; `grow` enlarges every part.
-// Margins as Blender gives them to Bullet (see Body::collision_margin_m): `hull_margin` grows
-// convex hulls, `outer_margin` grows cones and triangle meshes.
+// Margins as Blender gives them to Bullet: `hull` grows convex hulls, `outer` grows cones and
+// triangle meshes; inside boxes, spheres, capsules and cylinders the margin changes nothing.
 struct Margins {
     double hull = 0;
     double outer = 0;
 };
 
+// Appends the collision parts of `shape` (placed by `placement` in the object frame) to `parts`, in
+// the body frame whose origin is `origin` in the object frame; `grow` enlarges every part.
 void compile_shape(const Shape& shape, const Transform& placement, const Margins& margins, double grow,
                    const Vec3& origin, std::vector<CollisionPart>& parts, bool& has_mesh) {
     const double margin = grow;
