@@ -55,6 +55,7 @@ const char* engine_usage() {
            "  mwb-engine sample --scene SCENE.json --out LIB.mwb [--seed S] [--worlds A:B | --count N]\n"
            "                    [--threads T] [--duration SECONDS] [--alpha A] [--no-perturb] [--no-stop-at-rest]\n"
            "                    [--position-error METRES] [--rotation-error DEGREES] [--progress]\n"
+           "                    [--world-time-limit SECONDS] [--in-process]\n"
            "  mwb-engine refine --library LIB.mwb --world W --bodies I,J --time SECONDS [--count N]\n"
            "                    [--first-child K] [--threads T] [--progress]\n"
            "  mwb-engine refine --library LIB.mwb --world W [--add NAME,...] [--update NAME,...] [--scene SCENE.json]\n"
@@ -89,6 +90,8 @@ EngineOptions parse_engine_options(const std::vector<std::string>& args) {
         else if (flag == "--position-error") options.bounds.position_error_max_m = parse_number(flag, value());
         else if (flag == "--rotation-error") options.bounds.rotation_error_max_rad = parse_number(flag, value()) * kPi / 180;
         else if (flag == "--progress") options.progress = true;
+        else if (flag == "--in-process") options.in_process = true;
+        else if (flag == "--world-time-limit") options.world_time_limit_s = parse_number(flag, value());
         else if (flag == "--json") options.json = true;
         else if (flag == "--library") options.output_path = value();
         else if (flag == "--world") options.parent_world = parse_count(flag, value());
@@ -109,7 +112,7 @@ EngineOptions parse_engine_options(const std::vector<std::string>& args) {
         else if (flag.rfind("--", 0) == 0) throw UsageError("unknown option " + flag);
         else positional.push_back(flag);
     }
-    if (options.command == "sample") {
+    if (options.command == "sample" || options.command == "worker") {
         if (options.scene_path.empty() || options.output_path.empty()) throw UsageError("sample needs --scene and --out");
         if (options.world_count == 0) throw UsageError("--count must be at least 1");
         if (!(options.bounds.position_error_max_m > 0) || !(options.bounds.rotation_error_max_rad > 0))
@@ -138,7 +141,8 @@ EngineOptions parse_engine_options(const std::vector<std::string>& args) {
     } else {
         throw UsageError("unknown command '" + options.command + "' (sample, refine, info, merge or validate)");
     }
-    if (options.command != "sample" && options.command != "merge" && options.command != "refine" &&
+    if (options.command != "sample" && options.command != "worker" && options.command != "merge" &&
+        options.command != "refine" &&
         !options.output_path.empty())
         throw UsageError("--out is only for sample");
     return options;

@@ -17,7 +17,7 @@ struct UsageError : std::runtime_error {
 };
 
 struct EngineOptions {
-    std::string command;  ///< sample | refine | info | merge | validate
+    std::string command;  ///< sample | refine | info | merge | validate | worker (internal)
     std::string scene_path;
     std::string output_path;
     std::vector<std::string> inputs;
@@ -34,6 +34,8 @@ struct EngineOptions {
     std::vector<std::string> remove_bodies;  ///< refine: objects to remove from the world
     std::vector<std::string> update_bodies;  ///< refine: objects of the world to redefine from --scene
     bool progress = false;
+    bool in_process = false;            ///< sample: simulate in this process, not in supervised workers
+    double world_time_limit_s = 0;      ///< sample: a world still running after this is rejected (0: adaptive)
     SimulationParameters parameters;
     CodecBounds bounds;
 };

@@ -11,7 +11,12 @@
 
 #include <nlohmann/json.hpp>
 
+#include <omp.h>
+#include <unistd.h>
+
 #include "EngineOptions.h"
+#include "SupervisedSampler.h"
+#include "WorldWorker.h"
 #include "library/ByteIO.h"
 #include "library/LibraryReader.h"
 #include "library/LibraryFormat.h"
@@ -28,7 +33,15 @@ SamplingProgress g_progress;
 
 void request_cancel(int) { g_progress.cancel.store(true); }
 
-int run_sample(const EngineOptions& options) {
+// The engine executable itself, for its worker processes.
+std::string own_executable() {
+    char path[4096];
+    const ssize_t n = ::readlink("/proc/self/exe", path, sizeof path - 1);
+    if (n <= 0) throw std::runtime_error("cannot find the engine executable (/proc/self/exe)");
+    return std::string(path, static_cast<size_t>(n));
+}
+
+int run_sample(const EngineOptions& options, const std::vector<std::string>& args) {
     Scene scene = load_scene_file(options.scene_path);
     RunHeader header{scene_to_json(scene), options.parameters, options.bounds, options.base_seed};
     CompiledScene compiled(std::move(scene), options.parameters);
@@ -42,17 +55,30 @@ int run_sample(const EngineOptions& options) {
     std::signal(SIGINT, request_cancel);
     std::signal(SIGTERM, request_cancel);
     uint64_t stored = 0;
-    const SamplingStatistics stats = sample_world_list(
-        compiled, options.base_seed, todo, options.threads,
-        [&](WorldResult&& world) {
-            writer.append(world);
-            if (world.status != WorldStatus::Cancelled) ++stored;
-            if (options.progress) {
-                std::cerr << "MWB-PROGRESS " << stored << " " << todo.size() << " world " << world.world_index << "\n";
-                std::cerr.flush();
-            }
-        },
-        &g_progress);
+    auto report = [&](uint64_t world_index) {
+        ++stored;
+        if (options.progress) {
+            std::cerr << "MWB-PROGRESS " << stored << " " << todo.size() << " world " << world_index << "\n";
+            std::cerr.flush();
+        }
+    };
+    SamplingStatistics stats;
+    if (options.in_process) {
+        stats = sample_world_list(
+            compiled, options.base_seed, todo, options.threads,
+            [&](WorldResult&& world) {
+                writer.append(world);
+                if (world.status != WorldStatus::Cancelled) report(world.world_index);
+            },
+            &g_progress);
+    } else {
+        // Each world in a worker process: a world that crashes ODE is rejected, the run goes on.
+        SupervisedRun run{own_executable(), args, options.threads > 0 ? options.threads : omp_get_max_threads(),
+                          options.base_seed, options.world_time_limit_s};
+        run.worker_args[0] = "worker";
+        stats = sample_supervised(run, todo, writer, [&](uint64_t world_index, bool) { report(world_index); },
+                                  g_progress.cancel);
+    }
     std::cout << "sampled " << stats.worlds_ok << " worlds, rejected " << stats.worlds_rejected << ", skipped "
               << present.size() << " already stored" << (g_progress.cancel ? ", cancelled" : "") << " in "
               << stats.wall_time_s << " s -> " << options.output_path << "\n";
@@ -174,7 +200,8 @@ int run_validate(const EngineOptions& options) {
 
 int run(const std::vector<std::string>& args) {
     const EngineOptions options = parse_engine_options(args);
-    if (options.command == "sample") return run_sample(options);
+    if (options.command == "sample") return run_sample(options, args);
+    if (options.command == "worker") return run_world_worker(options);
     if (options.command == "refine") return run_refine(options);
     if (options.command == "info") return run_info(options);
     if (options.command == "merge") return run_merge(options);

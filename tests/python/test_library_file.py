@@ -351,3 +351,26 @@ def test_refinement_in_this_process_equals_the_engines(native, engine, tmp_path)
     with pytest.raises(native.RefineError, match="no world 42"):
         native.refine_stored_world(str(in_process), 42, [die], 1.0, 1)
     assert by_engine.read_bytes() == in_process.read_bytes(), "a refused request writes nothing"
+
+
+def test_worlds_that_crash_or_hang_are_rejected_and_the_run_goes_on(native, engine, tmp_path):
+    """Chosen worlds abort, segfault or hang inside the simulation (a test-only switch of the
+    engine's workers): each is stored as a rejection naming its fault, and every other world is
+    stored exactly as a run without faults stores it."""
+    clean, faulty = tmp_path / "clean.mwb", tmp_path / "faulty.mwb"
+    sample(engine, clean, "--worlds", "0:24", "--in-process")
+    env = dict(os.environ, MWB_ENGINE_TEST_FAULTS="3:abort,9:segv,14:hang")
+    result = subprocess.run([engine, "sample", "--scene", QUICKSTART, "--out", str(faulty), "--seed", "4",
+                             "--worlds", "0:24", "--world-time-limit", "3"], capture_output=True, text=True, env=env)
+    assert result.returncode == 0, result.stderr
+    lib, reference = native.Library(str(faulty)), native.Library(str(clean))
+    reasons = {world: reason for world, _, reason in lib.rejections}
+    assert sorted(reasons) == [3, 9, 14]
+    assert "Aborted" in reasons[3] and "Segmentation fault" in reasons[9] and "did not finish within 3 s" in reasons[14]
+    assert sorted(lib.world_indices) == sorted(set(range(24)) - {3, 9, 14})
+    for w in lib.world_indices:
+        np.testing.assert_array_equal(lib.positions(w), reference.positions(w))
+        np.testing.assert_array_equal(lib.orientations(w), reference.orientations(w))
+    # Sampling the range again with the faults gone fills nothing in: a rejected world is a result.
+    rerun = run_engine(engine, "sample", "--scene", QUICKSTART, "--out", str(faulty), "--seed", "4", "--worlds", "0:24")
+    assert "skipped 24 already stored" in rerun.stdout

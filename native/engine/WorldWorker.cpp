@@ -1,0 +1,93 @@
+#include "WorldWorker.h"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <iostream>
+#include <map>
+#include <string>
+
+#include "library/LibraryFormat.h"
+#include "library/WorldRecordEncoder.h"
+#include "sampler/Sampler.h"
+#include "scene/SceneJson.h"
+
+namespace mwb {
+namespace {
+
+// Test-only: MWB_ENGINE_TEST_FAULTS="3:abort,5:segv,7:hang" makes those worlds fail the way a
+// broken ODE can, so tests can check that a run survives them. Never set in production.
+std::map<uint64_t, std::string> injected_faults() {
+    std::map<uint64_t, std::string> faults;
+    const char* spec = std::getenv("MWB_ENGINE_TEST_FAULTS");
+    if (!spec) return faults;
+    std::string text = spec;
+    size_t start = 0;
+    while (start < text.size()) {
+        const size_t comma = std::min(text.find(',', start), text.size());
+        const std::string item = text.substr(start, comma - start);
+        const size_t colon = item.find(':');
+        if (colon != std::string::npos) faults[std::stoull(item.substr(0, colon))] = item.substr(colon + 1);
+        start = comma + 1;
+    }
+    return faults;
+}
+
+void fail_as_injected(const std::string& fault) {
+    if (fault == "abort") std::abort();
+    if (fault == "segv") std::raise(SIGSEGV);
+    if (fault == "hang")
+        for (;;) ::pause();
+}
+
+void write_all(const uint8_t* data, size_t size) {
+    while (size > 0) {
+        const ssize_t n = ::write(STDOUT_FILENO, data, size);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) std::_Exit(3);  // the supervisor is gone: nothing left to do
+        data += n;
+        size -= static_cast<size_t>(n);
+    }
+}
+
+void put_u32(uint8_t* out, uint32_t v) { std::memcpy(out, &v, 4); }
+
+void send_record(uint64_t world_index, uint32_t type, uint32_t version, const std::vector<uint8_t>& payload) {
+    uint8_t header[kWorkerRecordHeaderBytes];
+    std::memcpy(header, &world_index, 8);
+    put_u32(header + 8, type);
+    put_u32(header + 12, version);
+    put_u32(header + 16, static_cast<uint32_t>(payload.size()));
+    write_all(header, sizeof header);
+    write_all(payload.data(), payload.size());
+}
+
+}  // namespace
+
+int run_world_worker(const EngineOptions& options) {
+    // Ctrl-C reaches the whole process group; cancelling is the supervisor's decision.
+    std::signal(SIGINT, SIG_IGN);
+    const Scene scene = load_scene_file(options.scene_path);
+    const Vec3 gravity = scene.world.gravity;
+    const CompiledScene compiled(scene, options.parameters);
+    const std::map<uint64_t, std::string> faults = injected_faults();
+    std::string line;
+    while (std::getline(std::cin, line)) {
+        const uint64_t world_index = std::stoull(line);
+        const auto fault = faults.find(world_index);
+        if (fault != faults.end()) fail_as_injected(fault->second);
+        sample_world_list(compiled, options.base_seed, {world_index}, 1, [&](WorldResult&& world) {
+            if (world.status == WorldStatus::Ok)
+                send_record(world_index, kRecordTypeWorld, kWorldRecordVersion,
+                            encode_world_record(world, options.bounds, gravity));
+            else if (world.status == WorldStatus::Rejected)
+                send_record(world_index, kRecordTypeRejection, kRejectionRecordVersion, encode_rejection_record(world));
+        });
+    }
+    return 0;
+}
+
+}  // namespace mwb
