@@ -5,13 +5,14 @@ shows world time (f - frame_start) / fps (positions interpolated between the 120
 fps does not divide 120). Keys run to the world's last recorded frame and hold after it.
 Rotations are written as quaternions (the object's rotation_mode becomes 'QUATERNION'): Euler
 keys interpolate differently between frames and can flip at +-180 degrees.
-Like Blender's "Bake To Keyframes", the baked objects lose their rigid body so the keys rule.
+The baked objects keep their rigid bodies, switched to "Animated" so the keys rule (Blender's
+"Bake To Keyframes" removes them instead): the scene still samples as it was set up.
 
 An object whose body does not exist in the baked world (removed from it, or added only to other
 worlds) would otherwise stand still or be simulated by Blender among the baked objects; the bake
 hides it instead, with keys on hide_viewport and hide_render (shown until the frame before the
-simulation starts, hidden from its first frame on), and takes it out of the simulation if the
-simulation moved it. Baking a world it exists in removes those keys again and shows it. Objects
+simulation starts, hidden from its first frame on), and hands it to the keys like the baked ones if
+the simulation moved it. Baking a world it exists in removes those keys again and shows it. Objects
 that are not bodies of the library are left alone.
 """
 import bpy
@@ -19,6 +20,7 @@ import numpy as np
 
 from . import compat, preview
 from .core import arrays
+from .export import PREBAKE_MATRIX
 from .core.session import SESSION
 
 GROUP = "Object Transforms"
@@ -82,14 +84,22 @@ def hide_objects(objects, frame_start, action_suffix="MWB"):
                 key.interpolation = "CONSTANT"
 
 
-def remove_rigid_bodies(context, objects):
-    """Take the objects out of the simulation, as Blender's Bake To Keyframes does."""
-    objects = [ob for ob in objects if ob.rigid_body is not None]
-    if not objects:
-        return
-    with compat.temp_override(context, selected_objects=list(objects), active_object=objects[0],
-                              object=objects[0]):
-        bpy.ops.rigidbody.objects_remove()
+def remember_setup(context, objects):
+    """Keep each object's transform from before its first bake (the one the user set up), for the
+    export: the keys will move the object."""
+    context.view_layer.update()  # a preview that just ended left matrix_world stale
+    for ob in objects:
+        if ob.rigid_body is not None and PREBAKE_MATRIX not in ob:
+            ob[PREBAKE_MATRIX] = [v for row in ob.matrix_world for v in row]
+
+
+def hand_to_keys(objects):
+    """Let the keys move the objects: their rigid bodies become "Animated" (Blender's simulation
+    follows the keys and other bodies still collide with them), and each keeps its settings and
+    variation ranges, so Sample works after a bake as before it."""
+    for ob in objects:
+        if ob.rigid_body is not None:
+            ob.rigid_body.kinematic = True
 
 
 def _objects_of(view, bodies):
@@ -113,6 +123,9 @@ def bake_world(context, world):
     # One body per object: the one the world has, if any (an updated object has several).
     every = _objects_of(view, view.object_bodies(world).values())
     absent = [ob for i, ob in every if not present[i]]
+    absent_simulated = {view.body_names[i] for i in simulated if not present[i]}
+    handed = [ob for _, ob in pairs] + [ob for ob in absent if ob.name in absent_simulated]
+    remember_setup(context, handed)
     if pairs:
         index = np.array([i for i, _ in pairs])
         loc, rot = arrays.sample_tracks(positions[index], orientations[index], world_frames)
@@ -121,14 +134,13 @@ def bake_world(context, world):
         if present[i]:
             _remove_visibility_keys(ob)
     hide_objects(absent, view.frame_start)
-    absent_simulated = {view.body_names[i] for i in simulated if not present[i]}
-    remove_rigid_bodies(context, [ob for _, ob in pairs] + [ob for ob in absent if ob.name in absent_simulated])
+    hand_to_keys(handed)
     return [ob.name for _, ob in pairs], [ob.name for ob in absent]
 
 
 class MWB_OT_bake_world(bpy.types.Operator):
-    """Write the selected world as keyframes on its objects and remove their rigid bodies; objects not
-    in the world are keyed hidden"""
+    """Write the selected world as keyframes on its objects, whose rigid bodies follow the keys
+    ("Animated"); objects not in the world are keyed hidden"""
     bl_idname = "mwb.bake_world"
     bl_label = "Bake World"
     bl_options = {"REGISTER", "UNDO"}

@@ -61,6 +61,19 @@ def _mesh_data(ob, rbo, depsgraph):
     return vertices, triangles
 
 
+# Set by Bake World on the objects it keys (bake.hand_to_keys): they export as before the bake.
+PREBAKE_MATRIX = "mwb_prebake_matrix"
+
+
+def _prebake_matrix(ob):
+    """The world matrix a baked object had before its first bake, or None if it is not baked."""
+    flat = ob.get(PREBAKE_MATRIX)
+    if flat is None or len(flat) != 16:
+        return None
+    from mathutils import Matrix
+    return Matrix([list(flat[4 * r:4 * r + 4]) for r in range(4)])
+
+
 def _keyed_animated(ob, frame_start, frame_end):
     """Per frame of the range, whether the object's keyed "Animated" (rigid_body.kinematic) is on;
     None when it is not keyed."""
@@ -175,6 +188,8 @@ class SceneExporter:
         """(animated at the first frame, seconds until "Animated" is keyed off or None) of one object.
         Reports the keyings the engine does not follow: switched on after the first frame, or a
         passive body let go."""
+        if _prebake_matrix(ob) is not None:
+            return False, None  # a baked body: simulated, as it was before the bake
         flags = _keyed_animated(ob, frame_start, frame_end)
         if flags is None:
             return bool(ob.rigid_body.kinematic), None
@@ -201,7 +216,8 @@ class SceneExporter:
 
     def body(self, ob, animation, kinematic, animated_until_s=None):
         rbo = ob.rigid_body
-        initial, scale = _transform(ob.matrix_world)
+        prebake = _prebake_matrix(ob)
+        initial, scale = _transform(prebake if prebake is not None else ob.matrix_world)
         simulated = rbo.type == "ACTIVE" and (not kinematic or animated_until_s is not None)
         shape = self.shape(ob, rbo, scale, simulated)
         if shape is None:

@@ -38,6 +38,29 @@ class MWB_SavedTransform(bpy.types.PropertyGroup):
                                                       "previewed world), which the user may change")
 
 
+class MWB_LibraryItem(bpy.types.PropertyGroup):
+    """A library sampled from this .blend: a new one starts whenever the scene or the run settings
+    change, and the old ones are kept to switch back to."""
+    path: StringProperty(name="Library", subtype="FILE_PATH", description="The library file (relative to the .blend)")
+    interrupted_first: IntProperty(default=-1, description="First world of a run cancelled before its end; -1: none")
+    interrupted_end: IntProperty(default=-1, description="End (exclusive) of that run")
+
+
+def _on_library_index(self, context):
+    # Choosing a library in the list makes it the one Sample writes to and the one browsed.
+    from .operators import browsing
+    if 0 <= self.library_index < len(self.libraries):
+        import os
+        from .core.session import SESSION
+        self.library_path = self.libraries[self.library_index].path
+        browsing.open_library(context.scene)
+        browsing.sync_world_list(context.scene)
+        count = len(SESSION.view.world_indices) if SESSION.view else 0
+        SESSION.status = f"Opened {os.path.basename(bpy.path.abspath(self.library_path))}: {count} worlds"
+        SESSION.last_error = ""
+    _tag_redraw(self, context)
+
+
 def _on_world_list_index(self, context):
     # Selecting a row previews that world; the import is late to keep modules free of cycles.
     from . import preview
@@ -121,6 +144,8 @@ class MWB_SceneSettings(bpy.types.PropertyGroup):
     rotation_error_deg: FloatProperty(name="Rotation Error", default=0.5, min=0.01, soft_max=5.0,
                                       description="Largest stored rotation error, degrees")
     threads: IntProperty(name="Threads", default=0, min=0, description="Engine threads; 0: all cores")
+    libraries: CollectionProperty(type=MWB_LibraryItem)
+    library_index: IntProperty(name="Library", default=-1, update=_on_library_index)
     # Browsing
     worlds: CollectionProperty(type=MWB_WorldItem)
     world_list_index: IntProperty(name="World", default=-1, update=_on_world_list_index)
@@ -159,7 +184,8 @@ class MWB_SceneSettings(bpy.types.PropertyGroup):
     preview_saved: CollectionProperty(type=MWB_SavedTransform)
 
 
-classes = (MWB_ObjectVariation, MWB_WorldItem, MWB_SavedTransform, MWB_BodyName, MWB_QueryBox, MWB_SceneSettings)
+classes = (MWB_ObjectVariation, MWB_WorldItem, MWB_SavedTransform, MWB_BodyName, MWB_QueryBox, MWB_LibraryItem,
+           MWB_SceneSettings)
 
 
 def register_properties():

@@ -2,6 +2,8 @@
 run the command line) export the scene and read the scene's run settings here, and nowhere else,
 so the same .blend and world range give the same library whichever way it was started."""
 import os
+import shutil
+import subprocess
 
 from . import export
 from .core import engine as engine_process
@@ -59,3 +61,52 @@ def sample_argv(context, library, first_world, world_count, threads=None, seed=N
         threads = int(getattr(getattr(context.scene, "mwb", None), "threads", 0))
     argv = engine_process.sample_command(engine, scene_json, library, settings, first_world, world_count, threads)
     return argv, warnings
+
+
+def library_holds_run(argv):
+    """Whether the library of a `sample` command holds that command's run: 'same', 'other', or
+    'new' (no library yet). The engine answers from the same arguments it would sample with."""
+    result = subprocess.run(list(argv) + ["--dry-run"], capture_output=True, text=True)
+    if result.returncode != 0:
+        lines = result.stderr.strip().splitlines() or ["the engine failed"]
+        raise RunSetupError(lines[0].replace("mwb-engine: ", ""))
+    return result.stdout.split()[1]
+
+
+def _retarget(argv, library):
+    """The same sample command writing `library` (its scene JSON beside it)."""
+    argv = list(argv)
+    old_scene = argv[argv.index("--scene") + 1]
+    new_scene = paths.scene_json_path(library)
+    if new_scene != old_scene:
+        shutil.copyfile(old_scene, new_scene)
+    argv[argv.index("--scene") + 1] = new_scene
+    argv[argv.index("--out") + 1] = library
+    return argv
+
+
+def sample_into_matching_library(context, library, known, first_world, world_count):
+    """The Sample button's run: into `library` if it holds this run (or does not exist yet), else
+    into the first of the `known` libraries that does, else into a new library beside it, so a
+    changed range, object or setting never stops Sample and never touches the worlds sampled
+    before. Returns (argv, library used, export warnings); the first world is ignored for a
+    library that is not `library` (its next index is used)."""
+    argv, warnings = sample_argv(context, library, first_world, world_count)
+    if library_holds_run(argv) in ("same", "new"):
+        return argv, library, warnings
+    for other in known:
+        if other != library and os.path.isfile(other):
+            candidate = _retarget(argv, other)
+            if library_holds_run(candidate) == "same":
+                return _with_first_world(candidate, other, world_count), other, warnings
+    new = paths.next_library_path(library, taken=set(known))
+    return _with_first_world(_retarget(argv, new), new, world_count), new, warnings
+
+
+def _with_first_world(argv, library, world_count):
+    """The command sampling the next `world_count` worlds after those `library` holds."""
+    from . import _native
+    first = _native.Library(library, 0.0).next_world_index if os.path.isfile(library) else 0
+    argv = list(argv)
+    argv[argv.index("--worlds") + 1] = f"{first}:{first + world_count}"
+    return argv

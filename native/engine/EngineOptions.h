@@ -34,6 +34,7 @@ struct EngineOptions {
     std::vector<std::string> remove_bodies;  ///< refine: objects to remove from the world
     std::vector<std::string> update_bodies;  ///< refine: objects of the world to redefine from --scene
     bool progress = false;
+    bool dry_run = false;               ///< sample: say whether --out holds this run, write nothing
     bool in_process = false;            ///< sample: simulate in this process, not in supervised workers
     double world_time_limit_s = 0;      ///< sample: a world still running after this is rejected (0: adaptive)
     SimulationParameters parameters;

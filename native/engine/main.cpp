@@ -4,6 +4,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <set>
@@ -45,6 +46,14 @@ int run_sample(const EngineOptions& options, const std::vector<std::string>& arg
     Scene scene = load_scene_file(options.scene_path);
     RunHeader header{scene_to_json(scene), options.parameters, options.bounds, options.base_seed};
     CompiledScene compiled(std::move(scene), options.parameters);
+    if (options.dry_run) {
+        // What a front end asks before it samples: may this run go into that library?
+        std::string library = "new";
+        if (std::ifstream(options.output_path).good())
+            library = run_hash(LibraryReader(options.output_path).header()) == run_hash(header) ? "same" : "other";
+        std::cout << "library " << library << " run " << run_hash(header) << "\n";
+        return 0;
+    }
     LibraryWriter writer(options.output_path, header);
     for (const std::string& repair : writer.repairs()) std::cerr << "mwb-engine: " << repair << "\n";
     // Worlds already in the file are kept, so an interrupted run resumes where it stopped.

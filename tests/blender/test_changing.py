@@ -340,9 +340,9 @@ def test_bake_and_preview_of_a_world_without_the_lower_box(stack_scene):
     assert bpy.ops.mwb.bake_world() == {"FINISHED"}
     # The upper box is keyed; the lower one is not, it is keyed hidden from the first frame on.
     upper_paths = {f.data_path for f in upper.animation_data.action.fcurves}
-    assert upper_paths == {"location", "rotation_quaternion"} and upper.rigid_body is None
+    assert upper_paths == {"location", "rotation_quaternion"} and upper.rigid_body.kinematic
     lower_paths = {f.data_path for f in lower.animation_data.action.fcurves}
-    assert lower_paths == {"hide_viewport", "hide_render"} and lower.rigid_body is None
+    assert lower_paths == {"hide_viewport", "hide_render"} and lower.rigid_body.kinematic
     assert lower.display_type == "TEXTURED"
     scene.frame_set(0)
     assert not lower.hide_viewport and not lower.hide_render

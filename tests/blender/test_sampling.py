@@ -1,5 +1,6 @@
 """Sampling through the Sample operator: the engine runs as a child process, worlds stream into the
 open library and the world list, cancel keeps what finished, and a second press adds worlds."""
+import fcntl
 import json
 import os
 import subprocess
@@ -68,17 +69,75 @@ def test_cancel_stops_the_engine_and_keeps_finished_worlds(tmp_path):
 
 
 def test_engine_failure_is_reported(tmp_path):
-    _, boxes = drop_scene(bodies=1)
+    drop_scene(bodies=1)
     save_blend(tmp_path)
     sample_and_wait(1)
-    # The library belongs to the scene it was sampled from; an edited scene cannot append to it.
-    boxes[0].location.x += 1
-    bpy.context.view_layer.update()
-    sample_and_wait(1)
+    # Another process holds the library's writer lock: the engine stops and says why.
+    with open(tmp_path / "shot.mwb", "rb") as held:
+        fcntl.flock(held, fcntl.LOCK_EX)
+        sample_and_wait(1)
     assert SESSION.last_error, SESSION.status
-    assert "another run" in SESSION.last_error
+    assert "another process is writing" in SESSION.last_error
     assert "failed" in SESSION.status
     assert SESSION.view.world_indices == [0]
+
+
+def library_worlds(path):
+    return sorted(_native.Library(str(path)).world_indices)
+
+
+def test_a_changed_range_samples_into_a_new_library_and_the_old_one_stays(tmp_path):
+    _, boxes = drop_scene(bodies=2)
+    save_blend(tmp_path)
+    settings = bpy.context.scene.mwb
+    sample_and_wait(3)
+    old_max = tuple(boxes[0].mwb_variation.location_max)
+    boxes[0].mwb_variation.location_max = (0.3, 0.3, 0.3)
+    sample_and_wait(2)
+    assert SESSION.last_error == "", SESSION.last_error
+    assert "shot-2.mwb" in SESSION.status and "shot.mwb" in SESSION.status
+    assert SESSION.view.path == str(tmp_path / "shot-2.mwb") and settings.library_path == "//shot-2.mwb"
+    assert library_worlds(tmp_path / "shot-2.mwb") == [0, 1] and library_worlds(tmp_path / "shot.mwb") == [0, 1, 2]
+    assert [bpy.path.basename(item.path) for item in settings.libraries] == ["shot.mwb", "shot-2.mwb"]
+    # Back to the first library: it opens, and its worlds are listed.
+    settings.library_index = 0
+    assert SESSION.view.path == str(tmp_path / "shot.mwb") and len(settings.worlds) == 3
+    # The range as it was: Sample adds to the first library again, not to a third one.
+    boxes[0].mwb_variation.location_max = old_max
+    sample_and_wait(2)
+    assert library_worlds(tmp_path / "shot.mwb") == [0, 1, 2, 3, 4] and not (tmp_path / "shot-3.mwb").exists()
+
+
+def test_sample_after_cancel_finishes_the_interrupted_run(tmp_path):
+    drop_scene(bodies=2, frame_end=240)
+    save_blend(tmp_path)
+    mwb = bpy.context.scene.mwb
+    mwb.world_count, mwb.threads, mwb.stop_at_rest = 12, 1, False
+    assert bpy.ops.mwb.sample() == {"FINISHED"}
+    cancel_after_finished(2)
+    kept = len(SESSION.view.world_indices)
+    assert kept < 12
+    from many_worlds.operators import sampling
+    assert sampling.interrupted_run(bpy.context.scene) == (0, 12)
+    # Sample again (from a script: finish the interrupted run) fills the range, nothing beyond it.
+    mwb.world_count = 3
+    sample_and_wait(3)
+    assert library_worlds(tmp_path / "shot.mwb") == list(range(12))
+    assert sampling.interrupted_run(bpy.context.scene) is None
+    sample_and_wait(3)
+    assert library_worlds(tmp_path / "shot.mwb") == list(range(15))
+
+
+def test_after_bake_sample_adds_to_the_same_library_and_the_ranges_stay(tmp_path):
+    _, boxes = drop_scene(bodies=2)
+    save_blend(tmp_path)
+    sample_and_wait(2)
+    bpy.ops.mwb.select_world(world=1)
+    assert bpy.ops.mwb.bake_world() == {"FINISHED"}
+    assert all(box.rigid_body is not None for box in boxes), "the variation panel needs the rigid body"
+    sample_and_wait(2)
+    assert SESSION.last_error == "", SESSION.last_error
+    assert library_worlds(tmp_path / "shot.mwb") == [0, 1, 2, 3] and not (tmp_path / "shot-2.mwb").exists()
 
 
 def test_an_unsampleable_scene_is_refused_before_the_engine_starts(tmp_path):

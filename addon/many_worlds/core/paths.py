@@ -24,6 +24,22 @@ def default_library_name(blend_path):
     return os.path.splitext(os.path.basename(blend_path))[0] + ".mwb"
 
 
+def next_library_path(library_path, taken=()):
+    """A new library beside `library_path` for a changed run: 'shot.mwb' -> 'shot-2.mwb', or the
+    first of -3, -4, ... that is neither a file nor in `taken` (absolute paths)."""
+    root, ext = os.path.splitext(library_path)
+    base = root
+    head, dash, number = root.rpartition("-")
+    if dash and number.isdigit():
+        base = head
+    k = 2
+    while True:
+        candidate = f"{base}-{k}{ext or '.mwb'}"
+        if not os.path.exists(candidate) and candidate not in taken:
+            return candidate
+        k += 1
+
+
 def scene_json_path(library_path):
     """The exported scene sits next to the library: 'shot.mwb' -> 'shot.scene.json'."""
     root, _ = os.path.splitext(library_path)

@@ -15,6 +15,8 @@ class Session:
         self.sampling_scene = ""    # name of the scene being sampled
         self.sampling_library = ""  # absolute path the engine writes
         self.run_label = "Sampling"  # what the engine run does: Sampling, Refining, Adding or Removing
+        self.sampling_range = None   # (first, end) worlds of the sampling run under way
+        self.run_note = ""           # why the run writes where it does, when that is news to the user
 
     def close(self):
         if self.engine is not None:

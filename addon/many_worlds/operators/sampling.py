@@ -12,7 +12,6 @@ import bpy
 
 from .. import preview, props, queries, runs
 from ..core import engine as engine_process
-from ..core import paths
 from ..core.session import SESSION
 from . import browsing
 
@@ -35,8 +34,37 @@ def next_world_index(view):
     return 0 if view is None else int(view.library.next_world_index)
 
 
-def start_sampling(context):
-    """Export, validate and start the engine. Returns (ok, message, export problems)."""
+def library_item(settings, library):
+    """The scene's entry for the library file `library` (absolute path), added if missing."""
+    for item in settings.libraries:
+        if bpy.path.abspath(item.path) == library:
+            return item
+    item = settings.libraries.add()
+    item.path = bpy.path.relpath(library) if bpy.data.filepath else library
+    return item
+
+
+def _interrupted_range(item):
+    return (item.interrupted_first, item.interrupted_end) if item is not None and item.interrupted_first >= 0 else None
+
+
+def interrupted_run(scene):
+    """(first, end) of the scene library's run cancelled before its end, or None."""
+    library = props.resolved_library_path(scene)
+    for item in scene.mwb.libraries:
+        if bpy.path.abspath(item.path) == library:
+            return _interrupted_range(item)
+    return None
+
+
+def start_sampling(context, finish_interrupted=True):
+    """Export, validate and start the engine. Returns (ok, message, export problems).
+
+    With a cancelled run on record for the library and `finish_interrupted`, the run's range is
+    sampled again (the engine skips the worlds it already stored); otherwise the next worlds are
+    added. When the scene or the run settings changed since the library was sampled, the run goes
+    into a library of its own beside it (or an earlier one of the same run) and the old one stays.
+    """
     scene = context.scene
     settings = scene.mwb
     if SESSION.engine is not None:
@@ -50,23 +78,40 @@ def start_sampling(context):
         browsing.open_library(scene, library)
     if SESSION.view is not None:
         SESSION.view.poll()
-    first = next_world_index(SESSION.view)
+    interrupted = interrupted_run(scene) if finish_interrupted else None
+    first, count = (interrupted[0], interrupted[1] - interrupted[0]) if interrupted else \
+        (next_world_index(SESSION.view), settings.world_count)
+    known = [bpy.path.abspath(item.path) for item in settings.libraries]
     try:
-        argv, warnings = runs.sample_argv(context, library, first, settings.world_count)
+        argv, chosen, warnings = runs.sample_into_matching_library(context, library, known, first, count)
     except runs.RunSetupError as error:
         return False, str(error), error.problems
     except FileNotFoundError as error:
         return False, str(error), []
-    start_run(scene, argv, library, "Sampling", f"Sampling worlds {first} to {first + settings.world_count - 1}")
+    note = ""
+    if chosen != library:
+        note = (f" into {os.path.basename(chosen)}: the scene or settings changed since "
+                f"{os.path.basename(library)} was sampled (it is kept)")
+        settings.library_path = bpy.path.relpath(chosen) if bpy.data.filepath else chosen
+        library_item(settings, library)
+        browsing.open_library(scene, chosen)
+        browsing.sync_world_list(scene)
+    item = library_item(settings, chosen)
+    settings["library_index"] = list(settings.libraries).index(item)
+    first, end = (int(v) for v in argv[argv.index("--worlds") + 1].split(":"))
+    SESSION.sampling_range = (first, end)
+    start_run(scene, argv, chosen, "Sampling", f"Sampling worlds {first} to {end - 1}{note}", note)
     return True, SESSION.status, warnings
 
 
-def start_run(scene, argv, library, label, status):
+def start_run(scene, argv, library, label, status, note=""):
     """Start the engine child `argv` writing `library`; the poller streams its worlds into the view.
 
     label: what the run does ("Sampling", "Refining", "Adding", "Removing", "Updating"), for the panel and the
-    end of run message; status: the panel's line until the first progress arrives.
+    end of run message; status: the panel's line until the first progress arrives; note: said again
+    in the end of run message.
     """
+    SESSION.run_note = note
     SESSION.engine = engine_process.EngineRun(argv)
     SESSION.sampling_scene = scene.name
     SESSION.sampling_library = library
@@ -120,13 +165,28 @@ def poll_sampling():
         print(f"Many Worlds: {SESSION.status}", file=sys.stderr)
     elif run.cancel_requested:
         SESSION.status = f"{SESSION.run_label} cancelled; the library keeps {stored} worlds"
+        _remember_interruption(scene, True)
     else:
+        _remember_interruption(scene, False)
         made = FINISHED_TEXT.get(SESSION.run_label, "{done} new worlds").format(done=done)
-        SESSION.status = f"{made}; the library holds {stored}"
+        SESSION.status = f"{made}{SESSION.run_note}; the library holds {stored}"
     SESSION.engine = None
     _set_status_text(None)
     browsing.tag_redraw_all()
     return None
+
+
+def _remember_interruption(scene, cancelled):
+    """After a sampling run: note its range on its library when it was cancelled (Sample then
+    offers to finish it), forget it when the run reached its end."""
+    if scene is None or SESSION.run_label != "Sampling" or SESSION.sampling_range is None:
+        return
+    item = library_item(scene.mwb, SESSION.sampling_library)
+    if cancelled:
+        item.interrupted_first, item.interrupted_end = SESSION.sampling_range
+    else:
+        item.interrupted_first = item.interrupted_end = -1
+    SESSION.sampling_range = None
 
 
 def cancel_sampling():
@@ -183,12 +243,31 @@ class MWB_OT_sample(FollowsEngineRun, bpy.types.Operator):
     bl_idname = "mwb.sample"
     bl_label = "Sample Worlds"
 
+    mode: bpy.props.EnumProperty(
+        name="Mode", default="ASK", options={"SKIP_SAVE"},
+        items=[("ASK", "Ask", "Offer to finish a cancelled run when there is one (from a script: finish it)"),
+               ("FINISH", "Finish", "Sample the worlds a cancelled run did not reach"),
+               ("NEW", "New Worlds", "Add the next worlds, leaving a cancelled run as it is")])
+
     @classmethod
     def poll(cls, context):
         return SESSION.engine is None and context.scene.rigidbody_world is not None
 
+    def invoke(self, context, event):
+        interrupted = interrupted_run(context.scene)
+        if self.mode != "ASK" or interrupted is None:
+            return super().invoke(context, event)
+        first, end = interrupted
+
+        def draw(menu, _context):
+            menu.layout.operator("mwb.sample", text=f"Finish Worlds {first} to {end - 1}", icon="PLAY").mode = "FINISH"
+            menu.layout.operator("mwb.sample", text="Sample New Worlds", icon="ADD").mode = "NEW"
+
+        context.window_manager.popup_menu(draw, title="The last run was cancelled", icon="QUESTION")
+        return {"CANCELLED"}
+
     def _start(self, context):
-        ok, message, problems = start_sampling(context)
+        ok, message, problems = start_sampling(context, finish_interrupted=self.mode != "NEW")
         for line in problems:
             self.report({"WARNING"}, line)
         self.report({"INFO"} if ok else {"ERROR"}, message)

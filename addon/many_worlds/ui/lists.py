@@ -108,4 +108,16 @@ class MWB_UL_ranking(bpy.types.UIList):
             row.label(text=queries.format_metric(metric, ranking.values[row_index], box_count))
 
 
-classes = (MWB_UL_worlds, MWB_UL_boxes, MWB_UL_ranking)
+class MWB_UL_libraries(bpy.types.UIList):
+    """The libraries sampled from this file, one per run (scene and settings); choosing one opens
+    it, and Sample adds to it while the scene and settings match it."""
+
+    def draw_item(self, context, layout, data, item, icon, active_data, active_propname, index):
+        import os
+        row = layout.row()
+        row.label(text=os.path.basename(bpy.path.abspath(item.path)), icon="FILE_BLEND")
+        if item.interrupted_first >= 0:
+            row.label(text="cancelled", icon="PAUSE")
+
+
+classes = (MWB_UL_worlds, MWB_UL_boxes, MWB_UL_ranking, MWB_UL_libraries)

@@ -1,8 +1,11 @@
 """Panels: sampling and worlds in the 3D View sidebar, variation ranges next to the Rigid Body
 settings in the Physics properties (where the user already sets the body up)."""
+import textwrap
+
 import bpy
 
 from .. import props, queries
+from ..operators import sampling
 from ..core.session import SESSION
 
 
@@ -21,6 +24,18 @@ class LibraryPanel(SidebarPanel):
         return SESSION.view is not None
 
 
+def wrapped_labels(layout, context, text, icon):
+    """A long message as lines that fit the region's width (a label is cut, not wrapped)."""
+    scale = context.preferences.view.ui_scale
+    # At most 8 pixels per character of the UI font at scale 1; the icon takes the first line's
+    # start. A popup of the panel is narrower than the region it opens over.
+    pixels = min(context.region.width, 230 * scale) if context.region else 230 * scale
+    width = max(16, int((pixels - 40 * scale) / (8 * scale)))
+    column = layout.column(align=True)
+    for k, line in enumerate(textwrap.wrap(text, width) or [""]):
+        column.label(text=line, icon=icon if k == 0 else "BLANK1")
+
+
 class MWB_PT_sampling(SidebarPanel, bpy.types.Panel):
     bl_label = "Sampling"
     bl_idname = "MWB_PT_sampling"
@@ -33,6 +48,11 @@ class MWB_PT_sampling(SidebarPanel, bpy.types.Panel):
         if not settings.library_path:
             layout.label(text=props.resolved_library_path(context.scene) or "Save the .blend to choose a default",
                          icon="FILE")
+        if len(settings.libraries) > 1:
+            layout.template_list("MWB_UL_libraries", "", settings, "libraries", settings, "library_index", rows=2)
+        interrupted = sampling.interrupted_run(context.scene)
+        if interrupted is not None and SESSION.engine is None:
+            layout.label(text=f"Worlds {interrupted[0]} to {interrupted[1] - 1} were cancelled", icon="PAUSE")
         col = layout.column(align=True)
         col.prop(settings, "world_count")
         col.prop(settings, "seed")
@@ -51,9 +71,9 @@ class MWB_PT_sampling(SidebarPanel, bpy.types.Panel):
         else:
             row.operator("mwb.cancel_sampling", text=f"Cancel {SESSION.run_label}", icon="CANCEL")
         if SESSION.status:
-            layout.label(text=SESSION.status, icon="INFO")
+            wrapped_labels(layout, context, SESSION.status, "INFO")
         if SESSION.last_error:
-            layout.label(text=SESSION.last_error, icon="ERROR")
+            wrapped_labels(layout, context, SESSION.last_error, "ERROR")
 
 
 class MWB_PT_worlds(SidebarPanel, bpy.types.Panel):
