@@ -54,13 +54,19 @@ def test_sampling_again_adds_the_next_worlds(tmp_path):
     assert sorted(_native.Library(str(tmp_path / "shot.mwb")).world_indices) == [0, 1, 2, 3, 4]
 
 
-def test_cancel_stops_the_engine_and_keeps_finished_worlds(tmp_path):
+def sample_then_cancel(tmp_path, count):
+    """Press Sample for `count` slow worlds (10 s each, one thread) and Cancel once two are stored."""
     drop_scene(bodies=2, frame_end=240)
     save_blend(tmp_path)
     mwb = bpy.context.scene.mwb
-    mwb.world_count, mwb.threads, mwb.stop_at_rest = 5000, 1, False
+    mwb.world_count, mwb.threads, mwb.stop_at_rest = count, 1, False
     assert bpy.ops.mwb.sample() == {"FINISHED"}
     cancel_after_finished(2)
+    return mwb
+
+
+def test_cancel_stops_the_engine_and_keeps_finished_worlds(tmp_path):
+    sample_then_cancel(tmp_path, 5000)
     assert SESSION.engine is None and SESSION.last_error == ""
     kept = SESSION.view.world_indices
     assert 2 <= len(kept) < 5000
@@ -109,12 +115,7 @@ def test_a_changed_range_samples_into_a_new_library_and_the_old_one_stays(tmp_pa
 
 
 def test_sample_after_cancel_finishes_the_interrupted_run(tmp_path):
-    drop_scene(bodies=2, frame_end=240)
-    save_blend(tmp_path)
-    mwb = bpy.context.scene.mwb
-    mwb.world_count, mwb.threads, mwb.stop_at_rest = 12, 1, False
-    assert bpy.ops.mwb.sample() == {"FINISHED"}
-    cancel_after_finished(2)
+    mwb = sample_then_cancel(tmp_path, 12)
     kept = len(SESSION.view.world_indices)
     assert kept < 12
     from many_worlds.operators import sampling
