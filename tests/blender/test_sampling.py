@@ -200,3 +200,13 @@ def test_sample_button_command_line_and_farm_shards_make_one_library(tmp_path):
     merged = str(tmp_path / "merged.mwb")
     run_cli(blend, "merge", merged, button, str(tmp_path / "farm" / plan.shard_name(4, 6)))
     assert sorted(_native.Library(merged).world_indices) == list(range(6))
+
+
+def test_settings_the_engine_does_not_reproduce_are_listed_by_object_and_setting(tmp_path):
+    _, boxes = drop_scene(bodies=1)
+    boxes[0].rigid_body.use_deactivation = True
+    save_blend(tmp_path)
+    assert bpy.ops.mwb.check_scene() == {"FINISHED"}
+    assert any(line.startswith("Box0: use_deactivation:") for line in SESSION.export_warnings), SESSION.export_warnings
+    sample_and_wait(1)
+    assert any(line.startswith("Box0: use_deactivation:") for line in SESSION.export_warnings)

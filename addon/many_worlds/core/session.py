@@ -17,6 +17,7 @@ class Session:
         self.run_label = "Sampling"  # what the engine run does: Sampling, Refining, Adding or Removing
         self.sampling_range = None   # (first, end) worlds of the sampling run under way
         self.run_note = ""           # why the run writes where it does, when that is news to the user
+        self.export_warnings = []    # what the last export could not reproduce, one line per object and setting
 
     def close(self):
         if self.engine is not None:

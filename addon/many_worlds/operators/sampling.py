@@ -10,7 +10,7 @@ import sys
 
 import bpy
 
-from .. import preview, props, queries, runs
+from .. import export, preview, props, queries, runs
 from ..core import engine as engine_process
 from ..core.session import SESSION
 from . import browsing
@@ -85,6 +85,7 @@ def start_sampling(context, finish_interrupted=True):
     try:
         argv, chosen, warnings = runs.sample_into_matching_library(context, library, known, first, count)
     except runs.RunSetupError as error:
+        SESSION.export_warnings = list(error.problems)
         return False, str(error), error.problems
     except FileNotFoundError as error:
         return False, str(error), []
@@ -96,6 +97,7 @@ def start_sampling(context, finish_interrupted=True):
         library_item(settings, library)
         browsing.open_library(scene, chosen)
         browsing.sync_world_list(scene)
+    SESSION.export_warnings = list(warnings)
     item = library_item(settings, chosen)
     settings["library_index"] = list(settings.libraries).index(item)
     first, end = (int(v) for v in argv[argv.index("--worlds") + 1].split(":"))
@@ -295,7 +297,8 @@ class MWB_OT_check_scene(bpy.types.Operator):
 
     def execute(self, context):
         result, invalid = export.export_and_validate(context)
-        for line in result.problems + invalid:
+        SESSION.export_warnings = list(result.problems + invalid)
+        for line in SESSION.export_warnings:
             self.report({"WARNING"}, line)
         if not result.problems and not invalid:
             self.report({"INFO"}, f"{len(result.scene['bodies'])} bodies, "

@@ -74,6 +74,12 @@ class MWB_PT_sampling(SidebarPanel, bpy.types.Panel):
             wrapped_labels(layout, context, SESSION.status, "INFO")
         if SESSION.last_error:
             wrapped_labels(layout, context, SESSION.last_error, "ERROR")
+        if SESSION.export_warnings:
+            # What the engine does not reproduce as Blender would, named by object and setting.
+            box = layout.box()
+            box.label(text=f"{len(SESSION.export_warnings)} settings differ from Blender", icon="ERROR")
+            for line in SESSION.export_warnings:
+                wrapped_labels(box, context, line, "DOT")
 
 
 class MWB_PT_worlds(SidebarPanel, bpy.types.Panel):
