@@ -120,13 +120,13 @@ def test_a_ball_thrown_by_keyed_animated_flies_on_as_in_blender():
 
 def test_grounds_of_every_shape_hold_a_dropped_box_at_blenders_height():
     # A plane as ground with each collision shape Blender offers for it, default margins (0.04 m,
-    # "Collision Margin" unchecked): BOX (a flat box) and MESH (thickened by the margin).
+    # "Collision Margin" unchecked): BOX (a flat box), MESH (thickened by the margin), CONVEX_HULL.
     ensure_world()
     scene = bpy.context.scene
     scene.frame_start, scene.frame_end = 1, 48
     scene.rigidbody_world.point_cache.frame_start, scene.rigidbody_world.point_cache.frame_end = 1, 48
     crates = []
-    for k, shape in enumerate(("BOX", "MESH")):
+    for k, shape in enumerate(("BOX", "MESH", "CONVEX_HULL")):
         plane = mesh_object(f"Ground{shape}", "plane", location=(4 * k, 0, 0), size=3)
         add_rigid_body(plane, "PASSIVE", shape=shape)
         crate = add_rigid_body(mesh_object(f"Crate{shape}", location=(4 * k, 0, 1), scale=(0.2, 0.2, 0.2)), "ACTIVE")

@@ -71,6 +71,22 @@ TEST(BlenderShapes, AMeshGroundIsThickenedByItsMarginAsInBullet) {
     }
 }
 
+TEST(BlenderShapes, AConvexHullOfAPlaneIsAThinSlab) {
+    Body plane = fixtures::mesh_quad("Plane", {-2, -2, 0, 2, -2, 0, 2, 2, 0, -2, 2, 0});
+    plane.shape.type = ShapeType::ConvexHull;
+    const Scene scene = drop_onto(plane);
+    EXPECT_TRUE(validate_scene(scene).empty());
+    const WorldResult w = simulate_world(CompiledScene(scene, unperturbed()), 1, 0);
+    ASSERT_EQ(w.status, WorldStatus::Ok) << w.reject_reason;
+    EXPECT_NEAR(final_height(w, 1), 0.1, 0.002);
+    // Points on one line still span nothing.
+    Body line = plane;
+    line.shape.vertices_m = {0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 0, 0};
+    const std::vector<std::string> problems = validate_scene(drop_onto(line));
+    ASSERT_EQ(problems.size(), 1u);
+    EXPECT_NE(problems[0].find("collinear"), std::string::npos) << problems[0];
+}
+
 TEST(BlenderShapes, AConeGrowsByItsMargin) {
     Scene s = drop_onto(fixtures::ground());
     Body& cone = s.bodies[1];

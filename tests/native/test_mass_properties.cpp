@@ -169,6 +169,9 @@ TEST(MassProperties, ZeroVolumeThrows) {
     Shape flat;
     flat.type = ShapeType::ConvexHull;
     flat.vertices_m = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
+    // A flat hull (Blender's CONVEX_HULL of a plane) is a 1 mm slab; points on a line are nothing.
+    EXPECT_NEAR(compute_mass_properties(flat, 3.0).inertia[8], 3.0 * (1 + 1) / 12, 1e-6);
+    flat.vertices_m = {0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 0, 0};
     EXPECT_THROW(compute_mass_properties(flat, 1.0), GeometryError);
     Shape empty;
     empty.type = ShapeType::Compound;

@@ -327,4 +327,35 @@ ConvexHull compute_convex_hull(const std::vector<double>& xyz) {
     return hull;
 }
 
+std::vector<double> thicken_flat_points(const std::vector<double>& xyz) {
+    const size_t n = xyz.size() / 3;
+    if (n < 3 || xyz.size() % 3 != 0) return xyz;
+    auto point = [&](size_t i) { return Vec3{xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]}; };
+    Vec3 lo = point(0), hi = point(0);
+    for (size_t i = 1; i < n; ++i)
+        for (int k = 0; k < 3; ++k) lo[k] = std::min(lo[k], xyz[3 * i + k]), hi[k] = std::max(hi[k], xyz[3 * i + k]);
+    const double tol = kRelativeTolerance * norm(sub(hi, lo)) / 2;
+    // A plane through the point farthest from the first and the one farthest from that line.
+    size_t b = 0, c = 0;
+    for (size_t i = 1; i < n; ++i)
+        if (norm(sub(point(i), point(0))) > norm(sub(point(b), point(0)))) b = i;
+    const Vec3 ab = sub(point(b), point(0));
+    if (norm(ab) <= tol) return xyz;
+    for (size_t i = 1; i < n; ++i)
+        if (norm(cross(ab, sub(point(i), point(0)))) > norm(cross(ab, sub(point(c), point(0))))) c = i;
+    const Vec3 normal = cross(ab, sub(point(c), point(0)));
+    if (norm(normal) / norm(ab) <= tol) return xyz;  // collinear: no plane to thicken
+    const Vec3 unit = scale(normal, 1 / norm(normal));
+    for (size_t i = 0; i < n; ++i)
+        if (std::fabs(dot(unit, sub(point(i), point(0)))) > tol) return xyz;  // spans a volume
+    std::vector<double> out;
+    out.reserve(2 * xyz.size());
+    for (const double side : {-kFlatShapeHalfThickness_m, kFlatShapeHalfThickness_m})
+        for (size_t i = 0; i < n; ++i) {
+            const Vec3 p = add(point(i), scale(unit, side));
+            out.insert(out.end(), p.begin(), p.end());
+        }
+    return out;
+}
+
 }  // namespace mwb

@@ -26,4 +26,13 @@ struct GeometryError : std::runtime_error {
 /// multiple of 3, or spans no volume (fewer than 4 points, all coincident, collinear or coplanar).
 ConvexHull compute_convex_hull(const std::vector<double>& xyz);
 
+/// Half the thickness a flat shape collides with: Blender accepts a BOX or a CONVEX_HULL on a
+/// plane, which Bullet collides with no thickness; ODE needs a volume.
+constexpr double kFlatShapeHalfThickness_m = 0.0005;
+
+/// The points of a flat CONVEX_HULL (all in one plane, not on one line) copied
+/// kFlatShapeHalfThickness_m to either side of their plane, so they span a thin slab; any other
+/// point set unchanged. Flatness uses compute_convex_hull's tolerance.
+std::vector<double> thicken_flat_points(const std::vector<double>& xyz);
+
 }  // namespace mwb

@@ -27,7 +27,7 @@ void require_positive(double value, const char* what) {
 
 MassProperties box(Vec3 h, double m) {
     // A flat BOX (Blender's BOX on a plane) collides as a thin plate; its mass is spread the same way.
-    for (double& extent : h) extent = std::max(extent, 0.0005);
+    for (double& extent : h) extent = std::max(extent, kFlatShapeHalfThickness_m);
     return diagonal(8 * h[0] * h[1] * h[2], {0, 0, 0}, m * (h[1] * h[1] + h[2] * h[2]) / 3,
                     m * (h[0] * h[0] + h[2] * h[2]) / 3, m * (h[0] * h[0] + h[1] * h[1]) / 3);
 }
@@ -115,7 +115,7 @@ Vec3 reference_point(const std::vector<Vec3>& points) {
 }
 
 MassProperties convex_hull(const std::vector<double>& xyz, double m) {
-    const ConvexHull hull = compute_convex_hull(xyz);
+    const ConvexHull hull = compute_convex_hull(thicken_flat_points(xyz));
     const Vec3 origin = reference_point(hull.points);
     VolumeIntegrals integrals;
     for (const auto& face : hull.faces) {

@@ -111,7 +111,7 @@ void check_convex_hull(Checker& check, const std::string& field, const Shape& sh
         return;
     }
     try {
-        compute_convex_hull(shape.vertices_m);
+        compute_convex_hull(thicken_flat_points(shape.vertices_m));
     } catch (const GeometryError& error) {
         check.fail(vertices, std::string("span no volume: ") + error.what());
     }

@@ -17,11 +17,9 @@ constexpr int kConeSegments = 24;
 // Ghosts replay stored motion; a centimetre more catches contacts the 1 mm codec error or the
 // 30 Hz replay could miss.
 constexpr double kGhostMargin_m = 0.01;
-// Blender accepts a BOX on a flat object (a plane), which Bullet collides as a rectangle with no
-// thickness. ODE needs a volume: a flat side becomes a plate of this half thickness, and a static
-// plate lying within 30° of level is thickened below its top face instead, so that fast bodies
-// cannot cross its mid-plane while the face they land on stays where Blender has it.
-constexpr double kFlatBoxHalfThickness_m = 0.0005;
+// A flat BOX (Blender's BOX on a plane) collides as a plate kFlatShapeHalfThickness_m thick each
+// side; a static one lying within 30° of level is thickened below its top face instead, so that
+// fast bodies cannot cross its mid-plane while the face they land on stays where Blender has it.
 constexpr double kGroundPlateThickness_m = 0.02;
 constexpr double kGroundPlateMaxTiltCos = 0.866;
 
@@ -150,7 +148,7 @@ void compile_shape(const Shape& shape, const Transform& placement, const Margins
     switch (shape.type) {
         case ShapeType::Box:
             part.kind = PartKind::Box;
-            for (int k = 0; k < 3; ++k) part.half_extents_m[k] = std::max(shape.half_extents_m[k], kFlatBoxHalfThickness_m) + margin;
+            for (int k = 0; k < 3; ++k) part.half_extents_m[k] = std::max(shape.half_extents_m[k], kFlatShapeHalfThickness_m) + margin;
             break;
         case ShapeType::Sphere:
             part.kind = PartKind::Sphere;
@@ -169,7 +167,7 @@ void compile_shape(const Shape& shape, const Transform& placement, const Margins
         case ShapeType::Cone:
         case ShapeType::ConvexHull: {
             std::vector<double> local = shape.type == ShapeType::Cone ? cone_points(shape.radius_m, shape.height_m)
-                                                                      : shape.vertices_m;
+                                                                      : thicken_flat_points(shape.vertices_m);
             const double outward = grow + (shape.type == ShapeType::ConvexHull ? margins.hull : margins.outer);
             if (outward > 0) grow_hull_points(local, outward);
             part = convex_part(place_points(local, placement, origin));
@@ -197,14 +195,14 @@ void thicken_ground_plate(const Body& body, const Vec3& gravity, std::vector<Col
     const double g = norm(gravity);
     if (body.shape.type != ShapeType::Box || parts.size() != 1 || g <= 0) return;
     for (int axis = 0; axis < 3; ++axis) {
-        if (body.shape.half_extents_m[axis] >= kFlatBoxHalfThickness_m) continue;
+        if (body.shape.half_extents_m[axis] >= kFlatShapeHalfThickness_m) continue;
         Vec3 local{0, 0, 0};
         local[axis] = 1;
         const double up = -dot(quat_rotate(body.initial.rotation, local), gravity) / g;
         if (std::fabs(up) < kGroundPlateMaxTiltCos) continue;
-        const double grown = kGroundPlateThickness_m / 2 - kFlatBoxHalfThickness_m;
+        const double grown = kGroundPlateThickness_m / 2 - kFlatShapeHalfThickness_m;
         parts[0].half_extents_m[axis] += grown;
-        parts[0].offset.location[axis] -= (up > 0 ? 1 : -1) * (grown + kFlatBoxHalfThickness_m);
+        parts[0].offset.location[axis] -= (up > 0 ? 1 : -1) * (grown + kFlatShapeHalfThickness_m);
         return;
     }
 }
