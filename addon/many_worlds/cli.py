@@ -32,10 +32,9 @@ import numpy as np  # noqa: E402
 from . import _native  # noqa: E402
 from .core import contact_sheet, engine, paths  # noqa: E402
 from .core.library_view import LibraryView  # noqa: E402
-from .core.query import CONSTRAINTS_SATISFIED, BoxSpec, LibraryQuery  # noqa: E402
+from .core.query import BOXES_MET, BoxSpec, LibraryQuery, metric_name  # noqa: E402
 
-METRICS = ("angular_travel_rad", "time_to_rest_s", "collision_count", "orientation_change_rad", "path_length_m",
-           "orientation_to_goal_rad", "constraints_satisfied")
+METRICS = tuple(m.name for m in _native.ranking_metrics())
 
 
 class CliError(Exception):
@@ -89,14 +88,14 @@ def open_view(path):
         raise CliError(str(error))
 
 
-def library_bodies(library):
-    """The bodies of the library's current scene: the sampled ones, then every one added since."""
-    return json.loads(library.scene_json)["bodies"]
+def library_scene(library):
+    """The library's current scene: the sampled bodies, then every one added since."""
+    return _native.Scene.from_json(library.scene_json)
 
 
 def library_body_names(library):
     """The object each body stands for (an object updated after sampling has a body per definition)."""
-    return [b.get("object") or b["name"] for b in library_bodies(library)]
+    return list(library_scene(library).body_objects)
 
 
 def check_library_matches_scene(library, path):
@@ -123,8 +122,7 @@ def body_indices(library, objects_text, default="simulated"):
         if unknown:
             raise CliError(f"unknown object {unknown[0]!r} (the library has: {', '.join(names)})")
         return [i for i, name in enumerate(names) if name in wanted]
-    return [i for i, b in enumerate(library_bodies(library))
-            if b["type"] == "ACTIVE" and not b.get("kinematic", False)]
+    return [i for i, role in enumerate(library_scene(library).body_roles) if role == "simulated"]
 
 
 # --- sample ---------------------------------------------------------------------------------
@@ -269,16 +267,17 @@ def command_query(args):
 
 def command_rank(args):
     view = open_view(args.library)
+    args.metric = metric_name(args.metric)
     if args.metric not in METRICS:
         raise CliError(f"unknown metric {args.metric!r} (one of: {', '.join(METRICS)})")
     bodies = body_indices(view.library, args.objects)
     if args.box_specs:
         check_library_matches_scene(view.library, args.library)
     lq, result = evaluate_boxes(args, view)
-    if args.metric == CONSTRAINTS_SATISFIED:
+    if args.metric == BOXES_MET:
         if result is None:
-            raise CliError("constraints_satisfied ranks by boxes: give at least one --box")
-        ids, values = lq.rank(CONSTRAINTS_SATISFIED, bodies, descending=not args.asc)
+            raise CliError("boxes_met ranks by boxes: give at least one --box")
+        ids, values = lq.rank(BOXES_MET, bodies, descending=not args.asc)
     else:
         # Without boxes every world matches; with them, only the matching worlds are ranked.
         ids, values = lq.rank(args.metric, bodies, combine=args.combine, descending=args.desc)
@@ -395,7 +394,7 @@ def build_parser():
     p.add_argument("--metric", required=True, help=", ".join(METRICS))
     p.add_argument("--combine", choices=("sum", "max"), default="sum")
     p.add_argument("--desc", action="store_true", help="largest first")
-    p.add_argument("--asc", action="store_true", help="constraints_satisfied: fewest first")
+    p.add_argument("--asc", action="store_true", help="boxes_met: fewest first")
     p.add_argument("--limit", type=int, help="print only the first N")
     p.add_argument("--objects", help="objects the metric combines and the boxes test (default: all simulated)")
     add_box_options(p)

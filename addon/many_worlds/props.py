@@ -113,16 +113,14 @@ class MWB_QueryBox(bpy.types.PropertyGroup):
                         description="Test the bodies' bounding spheres along the path, not only their origins")
 
 
-RANK_METRICS = [
-    ("angular_travel_rad", "Angular Travel", "Integrated angular speed (how much the bodies spin)"),
-    ("time_to_rest_s", "Time to Rest", "When the bodies came to rest"),
-    ("collision_count", "Collisions", "How many collisions the bodies had"),
-    ("orientation_change_rad", "Orientation Change", "Angle between first and last orientation"),
-    ("path_length_m", "Path Length", "How far the bodies' origins travelled"),
-    ("orientation_to_goal_rad", "Upright", "Angle of the final orientation from the object's unrotated pose"),
-    ("constraints_satisfied", "Constraints Satisfied",
-     "How many enabled boxes each world satisfies; lists every world, not only the matching ones"),
-]
+def _rank_metric_items():
+    # The module's catalog, in its order: a saved choice is stored by its position, and the box
+    # count (once "constraints_satisfied", now "boxes_met") keeps its place at the end.
+    from . import _native
+    return [(m.name, m.label, f"{m.help} ({m.unit})") for m in _native.ranking_metrics()]
+
+
+RANK_METRICS = _rank_metric_items()
 
 
 class MWB_SceneSettings(bpy.types.PropertyGroup):

@@ -35,8 +35,9 @@ def simulated_body_names(scene):
         return list(dict.fromkeys(view.body_names[i] for i in view.simulated_bodies()))
     rbw = scene.rigidbody_world
     objects = rbw.collection.objects if rbw is not None and rbw.collection is not None else []
-    return [ob.name for ob in objects
-            if ob.rigid_body is not None and ob.rigid_body.type == "ACTIVE" and not ob.rigid_body.kinematic]
+    # No library yet: Blender's own settings, read as the engine's body_role reads them.
+    return [ob.name for ob in objects if ob.rigid_body is not None and ob.rigid_body.type == "ACTIVE"
+            and ob.rigid_body.enabled and not ob.rigid_body.kinematic]
 
 
 def default_body_names(context):
@@ -182,13 +183,21 @@ class RankingCache:
 RANKING = RankingCache()
 
 
+def _metric_units():
+    from . import _native
+    return {m.name: m.unit for m in _native.ranking_metrics()}
+
+
+METRIC_UNITS = _metric_units()
+
+
 def format_metric(metric, value, box_count=0):
-    if metric in ("angular_travel_rad", "orientation_change_rad", "orientation_to_goal_rad"):
+    """A metric's value as the panel shows it, by the unit the module gives the metric."""
+    unit = METRIC_UNITS.get(metric)
+    if unit == "rad":
         return f"{np.degrees(value):.1f}\u00b0"
-    if metric == "time_to_rest_s":
-        return f"{value:.2f} s"
-    if metric == "path_length_m":
-        return f"{value:.2f} m"
-    if metric == "collision_count":
+    if unit in ("s", "m"):
+        return f"{value:.2f} {unit}"
+    if unit == "hits":
         return f"{int(round(value))} hits"
     return f"{int(round(value))} of {box_count} boxes"

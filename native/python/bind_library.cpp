@@ -62,9 +62,79 @@ py::array_t<double> decoded(const PyLibrary& l, uint64_t w, std::vector<double> 
     return as_array(std::move(data), {static_cast<py::ssize_t>(body_rows(l, world)), world.frame_count, width});
 }
 
+// One refinement of a world's lineage, as Python sees it.
+struct LineageStepInfo {
+    double branch_time_s = 0;
+    uint64_t world = 0;  ///< the world this step made
+    std::vector<uint32_t> bodies, added, removed;
+};
+
+// Where a world came from and what it holds.
+struct WorldInfo {
+    uint64_t seed = 0;
+    int64_t parent_world = -1;
+    double branch_time_s = 0;
+    double record_hz = 0;
+    uint32_t first_frame = 0, frame_count = 0;
+    double simulated_time_s = 0;
+    uint32_t impacts_perturbed = 0;
+    size_t checkpoint_count = 0;
+    uint64_t root_world = 0;
+    std::vector<LineageStepInfo> lineage;
+    std::vector<bool> changed_bodies;
+    size_t motion_bytes = 0;
+};
+
+WorldInfo world_info(const PyLibrary& l, uint64_t w) {
+    const StoredWorld& world = l.world(w);
+    WorldInfo info;
+    info.seed = world.seed;
+    info.parent_world = world.parent_world;
+    info.branch_time_s = world.branch_time_s;
+    info.record_hz = world.record_hz;
+    info.first_frame = world.first_frame;
+    info.frame_count = world.frame_count;
+    info.simulated_time_s = world.simulated_time_s;
+    info.impacts_perturbed = world.impacts_perturbed;
+    info.checkpoint_count = world.checkpoints.size();
+    info.root_world = world.lineage.empty() ? world.world_index : world.root_world;
+    for (const RefineStep& step : world.lineage)
+        info.lineage.push_back({static_cast<double>(step.branch_step) / world.step_hz, step.world_index, step.bodies,
+                                step.added, step.removed});
+    info.changed_bodies = per_body<bool>(l, world, false, [&](const StoredTrack& t, size_t) {
+        return world.parent_world >= 0 && !t.inherited;
+    });
+    for (const StoredTrack& t : world.tracks) info.motion_bytes += t.position.size() + t.rotation.size();
+    return info;
+}
+
+void bind_world_info(py::module_& m) {
+    py::class_<LineageStepInfo>(m, "LineageStep", "One refinement in a world's lineage.")
+        .def_readonly("branch_time_s", &LineageStepInfo::branch_time_s, "where the world left its parent, seconds")
+        .def_readonly("world", &LineageStepInfo::world, "the world this step made")
+        .def_readonly("bodies", &LineageStepInfo::bodies, "scene body indices simulated anew")
+        .def_readonly("added", &LineageStepInfo::added, "scene body indices added from t = 0")
+        .def_readonly("removed", &LineageStepInfo::removed, "scene body indices removed from t = 0");
+    py::class_<WorldInfo>(m, "WorldInfo", "Where a world came from and what it holds.")
+        .def_readonly("seed", &WorldInfo::seed)
+        .def_readonly("parent_world", &WorldInfo::parent_world, "-1 for a sampled world")
+        .def_readonly("branch_time_s", &WorldInfo::branch_time_s)
+        .def_readonly("record_hz", &WorldInfo::record_hz)
+        .def_readonly("first_frame", &WorldInfo::first_frame)
+        .def_readonly("frame_count", &WorldInfo::frame_count)
+        .def_readonly("simulated_time_s", &WorldInfo::simulated_time_s)
+        .def_readonly("impacts_perturbed", &WorldInfo::impacts_perturbed)
+        .def_readonly("checkpoint_count", &WorldInfo::checkpoint_count)
+        .def_readonly("root_world", &WorldInfo::root_world, "the sampled world its lineage starts from")
+        .def_readonly("lineage", &WorldInfo::lineage, "list of LineageStep, the root's first refinement first")
+        .def_readonly("changed_bodies", &WorldInfo::changed_bodies, "per body: simulated anew (refined worlds)")
+        .def_readonly("motion_bytes", &WorldInfo::motion_bytes, "compressed motion the world stores itself");
+}
+
 }  // namespace
 
 void bind_library(py::module_& m) {
+    bind_world_info(m);
     py::register_exception<LibraryError>(m, "LibraryError", PyExc_IOError);
     py::register_exception<CodecError>(m, "CodecError", PyExc_ValueError);
 
@@ -157,32 +227,7 @@ void bind_library(py::module_& m) {
                  return out;
              },
              py::arg("world"), "metric name -> per-body values (0 for absent bodies)")
-        .def("world_info", [](const PyLibrary& l, uint64_t w) {
-            const StoredWorld& world = l.world(w);
-            py::dict d;
-            d["seed"] = world.seed;
-            d["parent_world"] = world.parent_world;
-            d["branch_time_s"] = world.branch_time_s;
-            d["record_hz"] = world.record_hz;
-            d["first_frame"] = world.first_frame;
-            d["frame_count"] = world.frame_count;
-            d["simulated_time_s"] = world.simulated_time_s;
-            d["impacts_perturbed"] = world.impacts_perturbed;
-            d["checkpoint_count"] = world.checkpoints.size();
-            d["root_world"] = world.lineage.empty() ? world.world_index : world.root_world;
-            py::list lineage;
-            for (const RefineStep& step : world.lineage)
-                lineage.append(py::make_tuple(static_cast<double>(step.branch_step) / world.step_hz, step.world_index,
-                                              step.bodies, step.added, step.removed));
-            d["lineage"] = lineage;
-            d["changed_bodies"] = per_body<bool>(l, world, false, [&](const StoredTrack& t, size_t) {
-                return world.parent_world >= 0 && !t.inherited;
-            });
-            size_t bytes = 0;
-            for (const StoredTrack& t : world.tracks) bytes += t.position.size() + t.rotation.size();
-            d["motion_bytes"] = bytes;
-            return d;
-        }, py::arg("world"));
+        .def("world_info", &world_info, py::arg("world"), "Where a world came from and what it holds (WorldInfo).");
 
     m.def("merge_libraries", &merge_libraries, py::arg("inputs"), py::arg("output"),
           py::call_guard<py::gil_scoped_release>(),

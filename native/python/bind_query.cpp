@@ -6,6 +6,7 @@
 #include "geometry/ShapeBounds.h"
 #include "library/WorldDecoding.h"
 #include "query/PathIndex.h"
+#include "query/RankingMetrics.h"
 #include "scene/SceneJson.h"
 
 namespace py = pybind11;
@@ -162,6 +163,15 @@ void bind_query(py::module_& m) {
             },
             py::arg("world"), py::arg("bodies"), py::arg("box"),
             "First time (s) any of the bodies' paths is inside the box's frustum, or -1.");
+
+    py::class_<RankingMetric>(m, "RankingMetric", "A metric worlds can be ranked by.")
+        .def_readonly("name", &RankingMetric::name)
+        .def_readonly("label", &RankingMetric::label)
+        .def_readonly("unit", &RankingMetric::unit, "'rad', 's', 'm', 'hits' or 'boxes'")
+        .def_readonly("help", &RankingMetric::help)
+        .def("__repr__", [](const RankingMetric& r) { return "<RankingMetric " + r.name + " (" + r.unit + ")>"; });
+    m.def("ranking_metrics", &ranking_metrics, py::return_value_policy::copy,
+          "Every metric worlds can be ranked by: the stored per-body ones, then orientation_to_goal_rad and boxes_met.");
 
     m.def(
         "body_bounding_radii",

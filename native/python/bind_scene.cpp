@@ -1,6 +1,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "scene/BodyChanges.h"
 #include "scene/SceneJson.h"
 #include "scene/SceneValidation.h"
 #include "sim/SimulationParameters.h"
@@ -24,6 +25,18 @@ void bind_scene(py::module_& m) {
                                    for (const Body& b : s.bodies) names.push_back(b.name);
                                    return names;
                                })
+        .def_property_readonly("body_objects", [](const Scene& s) {
+            std::vector<std::string> objects;
+            for (const Body& b : s.bodies) objects.push_back(object_of(b));
+            return objects;
+        }, "per body: the object it stands for (an object changed after sampling has a body per definition)")
+        .def_property_readonly("frame_start", [](const Scene& s) { return s.world.frame_start; })
+        .def_property_readonly("fps", [](const Scene& s) { return s.world.fps; })
+        .def_property_readonly("body_roles", [](const Scene& s) {
+            std::vector<std::string> roles;
+            for (const Body& b : s.bodies) roles.push_back(to_string(body_role(b)));
+            return roles;
+        }, "per body: 'simulated' (moved by physics), 'animated', 'static' or 'disabled' (Dynamic off)")
         .def_property_readonly("constraint_names", [](const Scene& s) {
             std::vector<std::string> names;
             for (const Constraint& c : s.constraints) names.push_back(c.name);

@@ -124,7 +124,7 @@ def branch_candidates(library, world, body, body_name, window_start, footprint):
     it left the footprint (where its path can change), and should those run out, every quarter second."""
     left = left_footprint_frame(library.positions(world)[body], footprint)
     if left is not None:
-        window_start = min(window_start, left / library.world_info(world)["record_hz"])
+        window_start = min(window_start, left / library.world_info(world).record_hz)
     collisions = {round(t, 4) for t, b, _, _ in library.contacts(world) if b == body and 0 < t < window_start}
     grid = {round(k * 0.25, 4) for k in range(int(window_start / 0.25))}
     return sorted(collisions | grid, reverse=True)

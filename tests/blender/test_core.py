@@ -1,4 +1,6 @@
 """The add-on's Blender-free helpers: array shaping for drawing and baking, engine progress lines."""
+from types import SimpleNamespace
+
 import numpy as np
 
 from many_worlds.core import arrays, engine, family, paths
@@ -73,10 +75,15 @@ def test_lineage_steps_name_the_bodies_added_and_removed():
         def world_info(self, world):
             return self.infos[world]
 
-    sampled = {"parent_world": -1, "branch_time_s": 0.0, "root_world": 0, "lineage": []}
-    refined = {"parent_world": 0, "branch_time_s": 1.5, "root_world": 0, "lineage": [(1.5, 1, [2])]}
-    changed = {"parent_world": 1, "branch_time_s": 0.0, "root_world": 0,
-               "lineage": [(1.5, 1, [2], [], []), (0.0, 2, [], [3], [0, 2])]}
+    def step(time_s, world, bodies, added=(), removed=()):
+        return SimpleNamespace(branch_time_s=time_s, world=world, bodies=bodies, added=added, removed=removed)
+
+    def info(parent, time_s, lineage):
+        return SimpleNamespace(parent_world=parent, branch_time_s=time_s, root_world=0, lineage=lineage)
+
+    sampled = info(-1, 0.0, [])
+    refined = info(0, 1.5, [step(1.5, 1, [2])])
+    changed = info(1, 0.0, [step(1.5, 1, [2]), step(0.0, 2, [], [3], [0, 2])])
     library = Library({0: sampled, 1: refined, 2: changed})
     lines = {w: family.lineage_of(library, w) for w in (0, 1, 2)}
     assert (lines[0].added, lines[0].removed) == ((), ())

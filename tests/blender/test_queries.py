@@ -158,7 +158,7 @@ def test_ranking_follows_the_library_metric_over_the_matching_worlds(sampled, me
     assert list(ranking.values) == sorted(ranking.values, reverse=descending)
 
 
-def test_constraints_satisfied_lists_every_world_with_its_count(sampled):
+def test_boxes_met_lists_every_world_with_its_count(sampled):
     view = sampled
     worlds = sorted(view.world_indices)
     rects = [end_rect(worlds[k], half_px=60) for k in (0, 4, 8)]
@@ -166,12 +166,15 @@ def test_constraints_satisfied_lists_every_world_with_its_count(sampled):
         add_box(rect)
     per_box = [direct_matches([(rect, False, ["Box0", "Box1"], None)])[0] for rect in rects]
     settings = bpy.context.scene.mwb
-    settings.rank_metric, settings.rank_descending = "constraints_satisfied", True
+    settings.rank_metric, settings.rank_descending = "boxes_met", True
     ranking = queries.RANKING.get(bpy.context)
     assert sorted(ranking.ids.tolist()) == worlds, "every world is listed, not only the matching ones"
     for w, value in zip(ranking.ids, ranking.values):
         assert value == sum(int(w) in matches for matches in per_box)
     assert list(ranking.values) == sorted(ranking.values, reverse=True)
+    # Files saved when the metric was called "constraints_satisfied" hold its position, 6: still boxes_met.
+    settings["rank_metric"] = 6
+    assert settings.rank_metric == "boxes_met"
 
 
 def test_boxes_and_ranking_settings_survive_save_and_reload(sampled, tmp_path):

@@ -35,7 +35,7 @@ def rect_around(world, body, time_s, half_px=12):
     """A screen rectangle around where `body` is at `time_s` in `world` (test camera)."""
     view = SESSION.view
     info = view.library.world_info(world)
-    frame = int(round(time_s * info["record_hz"]))
+    frame = int(round(time_s * info.record_hz))
     position = view.library.positions(world)[view.body_names.index(body), frame]
     x, y = to_screen(position[None])[0]
     return (x - half_px, y - half_px, x + half_px, y + half_px)
@@ -48,7 +48,7 @@ def first_time_in_rect(world, body, rect):
     screen = to_screen(view.library.positions(world)[view.body_names.index(body)])
     x0, y0, x1, y1 = rect
     inside = np.nonzero((screen[:, 0] >= x0) & (screen[:, 0] <= x1) & (screen[:, 1] >= y0) & (screen[:, 1] <= y1))[0]
-    return inside[0] / info["record_hz"] if len(inside) else -1.0
+    return inside[0] / info.record_hz if len(inside) else -1.0
 
 
 def refine(rect):
@@ -89,14 +89,14 @@ def test_refine_creates_children_branching_where_the_objects_enter_the_box(sampl
     library = _native.Library(SESSION.view.path)
     for child in children:
         info = library.world_info(child)
-        assert info["parent_world"] == parent and info["root_world"] == parent
-        branch = info["branch_time_s"]
+        assert info.parent_world == parent and info.root_world == parent
+        branch = info.branch_time_s
         assert abs(branch - t_ref) <= 1 / 30, (branch, t_ref)
         # Snapped down to a recorded frame.
-        assert abs(branch * info["record_hz"] - round(branch * info["record_hz"])) < 1e-6
+        assert abs(branch * info.record_hz - round(branch * info.record_hz)) < 1e-6
         assert branch <= t_ref + 1 / 30
         # Only the selected object was simulated anew before anything touched the other one.
-        assert info["changed_bodies"][SESSION.view.body_names.index("Box0")]
+        assert info.changed_bodies[SESSION.view.body_names.index("Box0")]
     assert "Refined into 3 worlds" in SESSION.status
 
 
@@ -177,5 +177,5 @@ def test_cancel_keeps_finished_children_and_allows_one_run_at_a_time(tmp_path):
     assert 2 <= len(children) < 5000
     library = _native.Library(SESSION.view.path)
     assert sorted(library.world_indices) == sorted(SESSION.view.world_indices)
-    assert all(library.world_info(c)["parent_world"] == world for c in children)
+    assert all(library.world_info(c).parent_world == world for c in children)
     assert bpy.ops.mwb.sample.poll()

@@ -103,5 +103,5 @@ def test_unregister_stops_a_refinement_and_keeps_its_finished_children(tmp_path)
     assert run.returncode() is not None and SESSION.engine is None
     assert not bpy.app.timers.is_registered(sampling.poll_sampling)
     library = _native.Library(str(tmp_path / "shot.mwb"))
-    assert all(library.world_info(w)["parent_world"] == 0 for w in library.world_indices if w != 0)
+    assert all(library.world_info(w).parent_world == 0 for w in library.world_indices if w != 0)
     many_worlds.register()

@@ -39,8 +39,8 @@ def library(tmp_path_factory):
 
 def test_info_reports_what_the_library_holds(library):
     info = json.loads("\n".join(output_lines(cli("info", str(library), "--json"))))
-    assert info["worlds"] == 12 and info["rejected"] == 0
-    assert 0 < info["motion_bytes_per_body_frame"] < 28
+    assert info.worlds == 12 and info.rejected == 0
+    assert 0 < info.motion_bytes_per_body_frame < 28
 
 
 def test_query_of_the_whole_view_keeps_every_world_and_its_negative_none(library):
@@ -69,6 +69,12 @@ def native_library_metrics(library):
     expected = sorted(totals, key=lambda w: -totals[w])
     lines = output_lines(cli("rank", str(library), "--metric", "path_length_m", "--desc"))
     return [int(line.split()[0]) for line in lines], expected
+
+
+def test_rank_by_boxes_met_lists_every_world_and_takes_the_old_name(library):
+    for name in ("boxes_met", "constraints_satisfied"):
+        lines = output_lines(cli("rank", str(library), "--metric", name, "--box", "0,0,1,1"))
+        assert len(lines) == 12 and all(line.split()[1] == "1" for line in lines), lines
 
 
 def test_bake_writes_a_blend_whose_keys_drive_animated_rigid_bodies(library, tmp_path):
@@ -171,7 +177,7 @@ def test_a_body_removed_from_worlds_is_skipped_and_may_be_deleted_from_the_blend
     subprocess.run([paths.engine_path(), "refine", "--library", str(changed), "--world", "3", "--remove", "Die",
                     "--count", "2"], check=True, capture_output=True)
     lib = _native.Library(str(changed))
-    children = [int(w) for w in lib.world_indices if lib.world_info(w)["parent_world"] == 3]
+    children = [int(w) for w in lib.world_indices if lib.world_info(w).parent_world == 3]
     assert len(children) == 2
     without_die = tmp_path / "without_die.blend"
     subprocess.run(["blender", "-b", QUICKSTART, "--python-expr",

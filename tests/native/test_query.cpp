@@ -1,9 +1,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <set>
 #include <thread>
 
+#include "query/BodyMetrics.h"
 #include "query/PathIndex.h"
+#include "query/RankingMetrics.h"
 #include "sim/PortableRandom.h"
 
 namespace mwb {
@@ -349,6 +352,26 @@ TEST(PathIndex, QueriesRunWhileWorldsAreAdded) {
         last = now;
     }
     writer.join();
+}
+
+}  // namespace
+}  // namespace mwb
+
+namespace mwb {
+namespace {
+
+TEST(RankingMetrics, TheCatalogStartsWithTheStoredMetricsAndNamesEachOnce) {
+    const std::vector<RankingMetric>& metrics = ranking_metrics();
+    const std::vector<std::string>& stored = stored_metric_names();
+    ASSERT_GT(metrics.size(), stored.size());
+    for (size_t k = 0; k < stored.size(); ++k) EXPECT_EQ(metrics[k].name, stored[k]);
+    std::set<std::string> names;
+    for (const RankingMetric& m : metrics) {
+        EXPECT_TRUE(names.insert(m.name).second) << m.name;
+        EXPECT_TRUE(std::set<std::string>({"rad", "s", "m", "hits", "boxes"}).count(m.unit)) << m.name << " " << m.unit;
+        EXPECT_FALSE(m.label.empty() || m.help.empty()) << m.name;
+    }
+    EXPECT_TRUE(names.count("boxes_met") && names.count("orientation_to_goal_rad"));
 }
 
 }  // namespace

@@ -16,6 +16,11 @@ from conftest import SCENES, run_engine
 QUICKSTART = os.path.join(SCENES, "quickstart.json")
 
 
+def lineage_tuples(info):
+    """A WorldInfo's lineage as (branch time s, world, bodies, added, removed) tuples."""
+    return [(s.branch_time_s, s.world, list(s.bodies), list(s.added), list(s.removed)) for s in info.lineage]
+
+
 def sample(engine, out, *extra):
     result = run_engine(engine, "sample", "--scene", QUICKSTART, "--out", str(out), "--seed", "4", *extra)
     assert result.returncode == 0, result.stderr
@@ -146,9 +151,9 @@ def test_info_reports_worlds_rejections_and_sizes(engine, tmp_path):
     result = run_engine(engine, "info", str(out), "--json")
     assert result.returncode == 0
     info = json.loads(result.stdout)
-    assert info["worlds"] == 3 and info["rejected"] == 0 and info["bodies"] == 6
-    assert 0 < info["motion_bytes_per_body_frame"] < 28
-    assert len(info["scene_hash"]) == 16
+    assert info.worlds == 3 and info.rejected == 0 and info.bodies == 6
+    assert 0 < info.motion_bytes_per_body_frame < 28
+    assert len(info.scene_hash) == 16
 
 
 @pytest.mark.parametrize("args,phrase", [
@@ -182,9 +187,9 @@ def test_refined_worlds_store_only_what_changed_and_read_back_whole(native, engi
     parent_positions = lib.positions(1)
     for child in (3, 4, 5, 6):
         info = lib.world_info(child)
-        assert info["parent_world"] == 1 and info["root_world"] == 1
-        assert info["branch_time_s"] == 1.0 and info["lineage"] == [(1.0, child, [die], [], [])]
-        changed = info["changed_bodies"]
+        assert info.parent_world == 1 and info.root_world == 1
+        assert info.branch_time_s == 1.0 and lineage_tuples(info) == [(1.0, child, [die], [], [])]
+        changed = info.changed_bodies
         assert changed[die]
         positions = lib.positions(child)
         assert positions.shape[0] == len(scene.body_names)
@@ -202,7 +207,7 @@ def test_refined_worlds_store_only_what_changed_and_read_back_whole(native, engi
                         "--time", "2.0", "--count", "1")
     assert result.returncode == 0, result.stderr
     grandchild = native.Library(str(out)).world_info(7)
-    assert grandchild["parent_world"] == 4 and [step[1] for step in grandchild["lineage"]] == [4, 7]
+    assert grandchild.parent_world == 4 and [step.world for step in grandchild.lineage] == [4, 7]
 
 
 def test_refine_mistakes_are_clear_errors(engine, tmp_path):
@@ -251,12 +256,12 @@ def test_bodies_added_to_and_removed_from_worlds(native, engine, tmp_path):
     bound = lib.header["position_error_max_m"]
     for child in (2, 3):
         assert lib.present(child) == [True] * (pebble + 1)
-        assert lib.world_info(child)["lineage"] == [(0.0, child, [], [pebble], [])]
+        assert lineage_tuples(lib.world_info(child)) == [(0.0, child, [], [pebble], [])]
         positions = lib.positions(child)
         # The pebble falls from where it was added onto the ground; nothing else is touched.
         assert np.abs(positions[pebble, 0] - [4.0, 4.0, 1.0]).max() < 0.1
         assert abs(positions[pebble, -1, 2] - 0.1) < 0.01
-        assert lib.world_info(child)["changed_bodies"] == [False] * pebble + [True]
+        assert lib.world_info(child).changed_bodies == [False] * pebble + [True]
         frames = min(parent.shape[1], positions.shape[1])
         np.testing.assert_array_equal(positions[:pebble, :frames], parent[:pebble, :frames])
     # Without the chute the die drops where it was instead of sliding down the chute.

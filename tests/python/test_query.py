@@ -122,7 +122,7 @@ def test_worlds_and_refined_children_hold_their_rest_pose_to_the_runs_end(native
     run_end_s = lib.run_last_frame / 120
     frame_counts = {w: lib.frame_count(w) for w in lib.world_indices}
     assert any(c - 1 < lib.run_last_frame - 120 for c in frame_counts.values()), "some world must end early"
-    children = [w for w in lib.world_indices if lib.world_info(w)["parent_world"] == 2]
+    children = [w for w in lib.world_indices if lib.world_info(w).parent_world == 2]
     assert len(children) == 6 and any(frame_counts[c] != frame_counts[2] for c in children)
     view, projection, size = look_at([3, -8, 6], [3, 0, 0]), perspective(0.9, 1.6, 0.1, 100), (1600, 1000)
     for body in (die,):

@@ -39,7 +39,7 @@ def rect_on_path(region, world, body, time_s):
     """Whole-pixel rectangle around where `body` is at `time_s` in `world`."""
     view = SESSION.view
     info = view.library.world_info(world)
-    position = view.library.positions(world)[view.body_names.index(body), int(round(time_s * info["record_hz"]))]
+    position = view.library.positions(world)[view.body_names.index(body), int(round(time_s * info.record_hz))]
     x, y = (int(round(v)) for v in location_3d_to_region_2d(region, region.data, position))
     return (x - HALF_PX, y - HALF_PX, x + HALF_PX, y + HALF_PX)
 
@@ -105,9 +105,9 @@ def steps():
     branches = []
     for child in children:
         info = SESSION.view.library.world_info(child)
-        assert info["parent_world"] == parent, info
-        branches.append(info["branch_time_s"])
-        assert expected_t - 1 / info["record_hz"] - 1e-9 <= info["branch_time_s"] <= expected_t + 1e-9, info
+        assert info.parent_world == parent, info
+        branches.append(info.branch_time_s)
+        assert expected_t - 1 / info.record_hz - 1e-9 <= info.branch_time_s <= expected_t + 1e-9, info
     results.update(parent=parent, children=children, expected_t=expected_t, branches=branches)
 
     # The family of the parent in the list and the viewport (the others dimmed).

@@ -25,18 +25,12 @@ class Lineage:
     removed: Tuple[int, ...] = ()
 
 
-def step_changes(step):
-    """(added, removed) body indices of one lineage step: (time_s, world, bodies[, added, removed])."""
-    added = tuple(int(b) for b in step[3]) if len(step) > 3 else ()
-    removed = tuple(int(b) for b in step[4]) if len(step) > 4 else ()
-    return added, removed
-
-
 def lineage_of(library, world):
+    """The Lineage of `world` from the library's WorldInfo."""
     info = library.world_info(world)
-    steps = [s for s in info.get("lineage", []) if int(s[1]) == int(world)]
-    added, removed = step_changes(steps[-1]) if steps else ((), ())
-    return Lineage(int(world), int(info["parent_world"]), float(info["branch_time_s"]), int(info["root_world"]),
+    steps = [s for s in info.lineage if int(s.world) == int(world)]
+    added, removed = (tuple(steps[-1].added), tuple(steps[-1].removed)) if steps else ((), ())
+    return Lineage(int(world), int(info.parent_world), float(info.branch_time_s), int(info.root_world),
                    added, removed)
 
 

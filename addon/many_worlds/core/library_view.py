@@ -11,7 +11,6 @@ after sampling and updated in some worlds has a body per definition ("Ball", "Ba
 stands for the same object, so `body_names` (the objects' names) can repeat, while a world has at
 most one body of each object.
 """
-import json
 
 import numpy as np
 
@@ -23,6 +22,7 @@ class LibraryView:
 
     def __init__(self, native, path):
         self.path = path
+        self._native = native
         self.library = native.Library(path)
         self.world_indices = []
         self.matching = np.zeros(0, dtype=bool)
@@ -32,22 +32,19 @@ class LibraryView:
         self._lineages = {}
         self._present = {}
         self._read_scene()
-        world = self.scene.get("world", {})
-        self.frame_start = int(world.get("frame_start", 1))
-        self.fps = float(world.get("fps", 24.0))
+        self.frame_start = int(self.scene.frame_start)
+        self.fps = float(self.scene.fps)
         # Recorded frames of the whole run: a world that ended at rest holds its last pose until here.
         self.run_frame_count = int(self.library.run_last_frame) + 1
         self._add_worlds()
 
     def _read_scene(self):
-        """Body names, types and flags from the library's current scene (all bodies ever added)."""
+        """Bodies of the library's current scene (all bodies ever added), as the module reads them."""
         self.scene_json = self.library.scene_json
-        self.scene = json.loads(self.scene_json)
-        bodies = self.scene.get("bodies", [])
+        self.scene = self._native.Scene.from_json(self.scene_json)
         # The object each body stands for: the names of objects in the .blend.
-        self.body_names = [b.get("object") or b["name"] for b in bodies]
-        self.body_types = [b["type"] for b in bodies]
-        self.body_kinematic = [bool(b.get("kinematic", False)) for b in bodies]
+        self.body_names = list(self.scene.body_objects)
+        self.body_roles = list(self.scene.body_roles)
         # Presence lists have one entry per body: computed again for the longer list.
         self._present = {}
         self.scene_revision += 1
@@ -114,7 +111,7 @@ class LibraryView:
 
     def simulated_bodies(self):
         """Indices of the bodies the simulation moves (ACTIVE, not animated), in any world."""
-        return [i for i, (t, k) in enumerate(zip(self.body_types, self.body_kinematic)) if t == "ACTIVE" and not k]
+        return [i for i, role in enumerate(self.body_roles) if role == "simulated"]
 
     def world_summary(self, world):
         """A few per-world numbers for lists: summed over the simulated bodies the world has."""
@@ -137,5 +134,5 @@ class LibraryView:
             self._decoded.clear()
             info = self.library.world_info(world)
             self._decoded[world] = (self.library.positions(world), self.library.orientations(world),
-                                    float(info["record_hz"]))
+                                    float(info.record_hz))
         return self._decoded[world]

@@ -5,6 +5,7 @@ import textwrap
 import bpy
 
 from .. import props, queries
+from ..core import query
 from ..operators import sampling
 from ..core.session import SESSION
 
@@ -178,7 +179,7 @@ class MWB_PT_ranking(LibraryPanel, bpy.types.Panel):
         row = layout.row(align=True)
         row.prop(settings, "rank_metric", text="")
         row.prop(settings, "rank_descending", text="", icon="SORT_DESC" if settings.rank_descending else "SORT_ASC")
-        if settings.rank_metric != "constraints_satisfied":
+        if settings.rank_metric != query.BOXES_MET:
             row = layout.row(align=True)
             row.prop(settings, "rank_combine", expand=True)
             row = layout.row(align=True)

@@ -67,4 +67,20 @@ bool parse_constraint_type(const std::string& text, ConstraintType& out) {
     return value_of(kConstraintNames, text, out);
 }
 
+BodyRole body_role(const Body& body) {
+    if (body.kinematic) return BodyRole::Animated;
+    if (body.type == BodyType::Passive) return BodyRole::Static;
+    return body.enabled ? BodyRole::Simulated : BodyRole::Disabled;
+}
+
+const char* to_string(BodyRole role) {
+    switch (role) {
+        case BodyRole::Simulated: return "simulated";
+        case BodyRole::Animated: return "animated";
+        case BodyRole::Static: return "static";
+        case BodyRole::Disabled: return "disabled";
+    }
+    return "unknown";
+}
+
 }  // namespace mwb

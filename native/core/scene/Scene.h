@@ -118,6 +118,18 @@ struct WorldSettings {
     double fps = 24.0;
 };
 
+/// What the simulation does with a body, the one rule every front end asks for.
+enum class BodyRole {
+    Simulated,  ///< ACTIVE, "Dynamic" on, not animated throughout: moved by physics (and perturbed)
+    Animated,   ///< "Animated" throughout: follows its animation
+    Static,     ///< PASSIVE and not animated: never moves
+    Disabled,   ///< ACTIVE with "Dynamic" off: stays where it is
+};
+
+/// The role of `body` (a body whose "Animated" is keyed off is Simulated).
+BodyRole body_role(const Body& body);
+const char* to_string(BodyRole role);
+
 struct Scene {
     std::string name;
     WorldSettings world;

@@ -209,8 +209,8 @@ void thicken_ground_plate(const Body& body, const Vec3& gravity, std::vector<Col
 
 CompiledBody compile_body(const Body& body, const Vec3& gravity) {
     CompiledBody out;
-    out.kinematic = body.kinematic;
-    out.dynamic = body.type == BodyType::Active && body.enabled && !body.kinematic;
+    out.kinematic = body_role(body) == BodyRole::Animated;
+    out.dynamic = body_role(body) == BodyRole::Simulated;
     if (out.dynamic) {
         const MassProperties mass = compute_mass_properties(body.shape, body.mass_kg);
         out.body_frame_offset_m = body.has_center_of_mass ? body.center_of_mass_local_m : mass.center_of_mass_m;

@@ -1,0 +1,316 @@
+"""Runs a fidelity scene both ways, Blender's own simulation (Bullet) and the engine with
+perturbation off, and compares the kind of outcome (SPEC §12): which bodies fall and come to
+rest, where they rest, how fast anything goes, which breakable constraints end broken.
+
+Inside Blender:
+    blender -b --factory-startup --python-exit-code 1 --python tests/fidelity/compare.py -- [SCENE ...] [--out DIR]
+prints each scene's JSON report and a one-line verdict, writes DIR/<scene>.json when --out is
+given, and exits 1 if a scene fails.
+
+Both sides are compared at Blender's frames: Blender frame f is engine time (f - frame_start) / fps.
+A scene passes when every criterion holds, or when every body or constraint on which a criterion
+fails is named by an export warning ("object: setting: reason"); a warning on a constraint covers
+the two bodies it joins and one on a body covers its constraints.
+"""
+import json
+import math
+import os
+import sys
+import time
+
+import bpy
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+for path in (os.path.join(ROOT, "addon"), HERE):
+    if path not in sys.path:
+        sys.path.insert(0, path)
+
+import scenes  # noqa: E402
+
+REST_SPEED_MPS = 0.05       # at rest: slower than this ...
+REST_WINDOW_S = 0.5         # ... over the last half second
+HEIGHT_TOLERANCE_M = 0.01   # resting heights within a centimetre
+SPEED_RATIO = 1.5           # nothing faster than 1.5x Bullet's fastest body
+FALL_M = 0.05               # a body fell if it ends this much lower than it started
+BROKEN_DISTANCE_M = 0.05    # a constraint broke if its bodies' distance changed by more
+
+PASS, COVERED, FAIL = "PASS", "PASS (divergence covered by export warnings)", "FAIL"
+
+
+# --- running a scene ------------------------------------------------------------------------
+
+def ensure_registered():
+    """Register the add-on once (its per-object properties are needed by the export)."""
+    import many_worlds
+    if not hasattr(bpy.types.Object, "mwb_variation"):
+        many_worlds.register()
+
+
+def rigid_body_objects(scene):
+    rbw = scene.rigidbody_world
+    return sorted((ob for ob in rbw.collection.objects if ob.rigid_body is not None), key=lambda ob: ob.name)
+
+
+def breakable_constraints(scene):
+    """{constraint name: (object1 name, object2 name)} of the enabled breakable constraints."""
+    rbw = scene.rigidbody_world
+    if rbw.constraints is None:
+        return {}
+    out = {}
+    for ob in rbw.constraints.objects:
+        rbc = ob.rigid_body_constraint
+        if rbc is not None and rbc.enabled and rbc.use_breaking and rbc.object1 and rbc.object2:
+            out[ob.name] = (rbc.object1.name, rbc.object2.name)
+    return dict(sorted(out.items()))
+
+
+def simulate_in_blender(scene):
+    """Step Blender's simulation through every frame of the range; returns
+    ({name: float64 (frames, 3) object origins}, seconds)."""
+    objects = rigid_body_objects(scene)
+    start = time.perf_counter()
+    scene.frame_set(scene.frame_start)
+    tracks = {ob.name: [] for ob in objects}
+    for frame in range(scene.frame_start, scene.frame_end + 1):
+        scene.frame_set(frame)
+        for ob in objects:
+            tracks[ob.name].append(tuple(ob.matrix_world.translation))
+    scene.frame_set(scene.frame_start)
+    return {name: np.array(rows) for name, rows in tracks.items()}, time.perf_counter() - start
+
+
+def simulate_in_engine(scene):
+    """Export the scene with the add-on and simulate one unperturbed world in-process.
+    Returns a dict: tracks ({name: (frames, 3)} at Blender's frames, or None if the scene could not
+    be simulated), warnings, validation errors, status, joints broken at the last checkpoint, and
+    seconds spent exporting and simulating."""
+    from many_worlds import _native
+    from many_worlds.export import export_and_validate
+    out = {"tracks": None, "warnings": [], "validation_errors": [], "status": "not run", "reject_reason": "",
+           "engine_joint_broken": {}, "export_s": 0.0, "engine_s": 0.0}
+    start = time.perf_counter()
+    result, invalid = export_and_validate(bpy.context)
+    out["export_s"] = time.perf_counter() - start
+    out["warnings"] = list(result.problems)
+    out["validation_errors"] = list(invalid)
+    if result.scene is None or invalid:
+        return out
+    native_scene = _native.Scene.from_json(result.to_json())
+    params = _native.SimulationParameters()
+    params.perturb = False
+    params.stop_at_rest = False
+    start = time.perf_counter()
+    world = _native.sample(native_scene, params, 0, 0, 1, threads=1)[0]
+    out["engine_s"] = time.perf_counter() - start
+    out["status"], out["reject_reason"] = world.status, world.reject_reason
+    if world.status != "ok":
+        return out
+    fps = scene.render.fps / scene.render.fps_base
+    frame_start = result.scene["world"]["frame_start"]
+    index = [round((f - frame_start) * world.record_hz / fps) for f in range(scene.frame_start, scene.frame_end + 1)]
+    positions = world.positions
+    if index[-1] >= world.frame_count:
+        raise RuntimeError(f"the engine recorded {world.frame_count} frames, Blender's range needs {index[-1] + 1}")
+    out["tracks"] = {name: positions[k, index] for k, name in enumerate(native_scene.body_names)}
+    checkpoints = world.checkpoints
+    if checkpoints:
+        broken = checkpoints[-1]["joint_broken"]
+        out["engine_joint_broken"] = {name: bool(b) for name, b in zip(native_scene.constraint_names, broken)}
+    return out
+
+
+# --- outcomes -------------------------------------------------------------------------------
+
+def body_outcome(track, fps):
+    """What one body did, from its origin at every frame: fell, at rest, final height, top speed."""
+    speeds = np.linalg.norm(np.diff(track, axis=0), axis=1) * fps
+    window = max(1, round(REST_WINDOW_S * fps))
+    return {"fell": bool(track[0, 2] - track[-1, 2] > FALL_M),
+            "at_rest": bool(np.all(speeds[-window:] < REST_SPEED_MPS)),
+            "final_z_m": float(track[-1, 2]),
+            "final_speed_mps": float(np.max(speeds[-window:])),
+            "max_speed_mps": float(np.max(speeds)) if len(speeds) else 0.0,
+            "final_position_m": [round(float(c), 4) for c in track[-1]]}
+
+
+def constraint_broken(tracks, pair):
+    """(broken, change of the distance between the two bodies' origins in metres)."""
+    a, b = (tracks.get(name) for name in pair)
+    if a is None or b is None:
+        return None, None
+    change = float(np.linalg.norm(a[-1] - b[-1]) - np.linalg.norm(a[0] - b[0]))
+    return abs(change) > BROKEN_DISTANCE_M, change
+
+
+def criterion(name, divergent, numbers, rule):
+    return {"criterion": name, "rule": rule, "ok": not divergent, "divergent": sorted(divergent), "numbers": numbers}
+
+
+def compare_outcomes(active, bullet, ours, constraints, fps):
+    """The criteria of SPEC §12 for the ACTIVE bodies `active` and the breakable `constraints`."""
+    b = {name: body_outcome(bullet[name], fps) for name in active}
+    o = {name: body_outcome(ours[name], fps) for name in active if name in ours}
+    missing = sorted(set(active) - set(o))
+    present = [name for name in active if name in o]
+
+    def names(outcomes, key):
+        return {n for n in present if outcomes[n][key]}
+
+    results = []
+    fell_b, fell_o = names(b, "fell"), names(o, "fell")
+    results.append(criterion("same_bodies_fall", (fell_b ^ fell_o) | set(missing),
+                             {"bullet": sorted(fell_b), "ours": sorted(fell_o), "not_exported": missing},
+                             f"the same bodies end more than {FALL_M} m below their start"))
+    rest_b, rest_o = names(b, "at_rest"), names(o, "at_rest")
+    results.append(criterion("same_bodies_rest", rest_b ^ rest_o,
+                             {"bullet": sorted(rest_b), "ours": sorted(rest_o)},
+                             f"the same bodies end at rest (< {REST_SPEED_MPS} m/s over the last {REST_WINDOW_S} s)"))
+    results.append(criterion("at_rest_where_bullet_rests", rest_b - rest_o,
+                             {"bullet_only": sorted(rest_b - rest_o)},
+                             "every body at rest in Bullet is at rest in ours"))
+    heights = {n: {"bullet_z_m": round(b[n]["final_z_m"], 4), "ours_z_m": round(o[n]["final_z_m"], 4),
+                   "dz_m": round(o[n]["final_z_m"] - b[n]["final_z_m"], 4)} for n in sorted(rest_b & rest_o)}
+    results.append(criterion("resting_heights", {n for n, h in heights.items() if abs(h["dz_m"]) > HEIGHT_TOLERANCE_M},
+                             heights, f"resting heights within {HEIGHT_TOLERANCE_M} m of Bullet's"))
+    fastest_b = max(present, key=lambda n: b[n]["max_speed_mps"], default=None)
+    top_b = b[fastest_b]["max_speed_mps"] if fastest_b else 0.0
+    limit = SPEED_RATIO * top_b
+    too_fast = {n for n in present if o[n]["max_speed_mps"] > limit}
+    fastest_o = max(present, key=lambda n: o[n]["max_speed_mps"], default=None)
+    results.append(criterion("max_speed", too_fast,
+                             {"bullet_fastest": fastest_b, "bullet_max_mps": round(top_b, 3),
+                              "ours_fastest": fastest_o,
+                              "ours_max_mps": round(o[fastest_o]["max_speed_mps"], 3) if fastest_o else 0.0},
+                             f"no body faster than {SPEED_RATIO}x Bullet's fastest body"))
+    if constraints:
+        breaks = {}
+        for cname, pair in constraints.items():
+            broken_b, change_b = constraint_broken(bullet, pair)
+            broken_o, change_o = constraint_broken(ours, pair)
+            breaks[cname] = {"bodies": list(pair), "bullet_broken": broken_b, "ours_broken": broken_o,
+                             "bullet_distance_change_m": None if change_b is None else round(change_b, 4),
+                             "ours_distance_change_m": None if change_o is None else round(change_o, 4)}
+        results.append(criterion("same_constraints_break",
+                                 {c for c, v in breaks.items() if v["bullet_broken"] != v["ours_broken"]}, breaks,
+                                 f"the same breakable constraints end broken (bodies' distance changed > "
+                                 f"{BROKEN_DISTANCE_M} m)"))
+    bodies = {n: {"bullet": b[n], "ours": o.get(n)} for n in active}
+    return results, bodies
+
+
+def covering_warnings(item, warnings, constraints_of):
+    """The export warnings that name `item` (a body or constraint) or a constraint/body linked to it."""
+    linked = {item} | set(constraints_of.get(item, ()))
+    return [w for w in warnings if w.split(":", 1)[0] in linked]
+
+
+def run_scene(name):
+    """Build scene `name` in the current (fresh) file, run both simulations and compare.
+    Returns the report dict; report["verdict"] is PASS, COVERED or FAIL."""
+    ensure_registered()
+    build, what = scenes.SCENES[name]
+    start = time.perf_counter()
+    build()
+    build_s = time.perf_counter() - start
+    scene = bpy.context.scene
+    fps = scene.render.fps / scene.render.fps_base
+    objects = rigid_body_objects(scene)
+    active = [ob.name for ob in objects if ob.rigid_body.type == "ACTIVE"]
+    constraints = breakable_constraints(scene)
+    # Which constraints and bodies are linked, both ways, for warnings naming one of them.
+    constraints_of = {}
+    for ob in (scene.rigidbody_world.constraints.objects if scene.rigidbody_world.constraints else ()):
+        rbc = ob.rigid_body_constraint
+        ends = [o.name for o in (rbc.object1, rbc.object2) if o is not None] if rbc else []
+        constraints_of.setdefault(ob.name, set()).update(ends)
+        for end in ends:
+            constraints_of.setdefault(end, set()).add(ob.name)
+    bullet, blender_s = simulate_in_blender(scene)
+    engine = simulate_in_engine(scene)
+    report = {"scene": name, "what": what, "bodies_simulated": len(active), "frames": scene.frame_end - scene.frame_start + 1,
+              "fps": fps, "warnings": engine["warnings"], "validation_errors": engine["validation_errors"],
+              "engine_status": engine["status"], "reject_reason": engine["reject_reason"],
+              "timing_s": {"build": round(build_s, 3), "blender": round(blender_s, 3),
+                           "export": round(engine["export_s"], 3), "engine": round(engine["engine_s"], 3)}}
+    if engine["tracks"] is None:
+        report.update(criteria=[], bodies={}, verdict=FAIL,
+                      failed=["not simulated: " + ("; ".join(engine["validation_errors"]) or
+                                                   f"world {engine['status']} {engine['reject_reason']}")])
+        return report
+    criteria, bodies = compare_outcomes(active, bullet, engine["tracks"], constraints, fps)
+    for c in criteria:
+        c["covered_by"] = {item: covering_warnings(item, engine["warnings"], constraints_of) for item in c["divergent"]}
+        c["covered"] = not c["ok"] and all(c["covered_by"].values())
+    if engine["engine_joint_broken"]:
+        report["engine_joint_broken_last_checkpoint"] = {k: v for k, v in engine["engine_joint_broken"].items()
+                                                         if k in constraints}
+    report["criteria"], report["bodies"] = criteria, bodies
+    failed = [c for c in criteria if not c["ok"]]
+    report["failed"] = [c["criterion"] for c in failed if not c["covered"]]
+    report["covered"] = [c["criterion"] for c in failed if c["covered"]]
+    report["verdict"] = PASS if not failed else (COVERED if not report["failed"] else FAIL)
+    return report
+
+
+def verdict_line(report):
+    """One line: scene, verdict, and the failed criteria with their divergent objects."""
+    line = f"{report['scene']}: {report['verdict']}"
+    parts = []
+    for c in report.get("criteria", []):
+        if not c["ok"]:
+            mark = "covered" if c["covered"] else "FAILED"
+            parts.append(f"{c['criterion']} {mark} on {', '.join(c['divergent'])}")
+    if report["verdict"] == FAIL and not report.get("criteria"):
+        parts = report["failed"]
+    return line + (" -- " + "; ".join(parts) if parts else "")
+
+
+def failure_message(report):
+    """The failed criteria with their numbers, for an assertion message."""
+    lines = [verdict_line(report)]
+    for c in report.get("criteria", []):
+        if not c["ok"] and not c["covered"]:
+            lines.append(f"  {c['criterion']} ({c['rule']}): divergent {c['divergent']}; "
+                         f"numbers {json.dumps(c['numbers'])}")
+    if report["warnings"]:
+        lines.append(f"  export warnings: {report['warnings']}")
+    return "\n".join(lines)
+
+
+def fresh_file():
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    ensure_registered()
+
+
+def main(argv):
+    out = None
+    if "--out" in argv:
+        k = argv.index("--out")
+        out = argv[k + 1]
+        argv = argv[:k] + argv[k + 2:]
+    names = argv or list(scenes.SCENES)
+    unknown = [n for n in names if n not in scenes.SCENES]
+    if unknown:
+        print(f"unknown scenes {unknown}; known: {list(scenes.SCENES)}")
+        return 2
+    failed = 0
+    lines = []
+    for name in names:
+        fresh_file()
+        report = run_scene(name)
+        print(json.dumps(report, indent=1))
+        lines.append(verdict_line(report))
+        failed += report["verdict"] == FAIL
+        if out:
+            os.makedirs(out, exist_ok=True)
+            with open(os.path.join(out, f"{name}.json"), "w") as f:
+                json.dump(report, f, indent=1)
+    print("\n".join(lines))
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    args = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    sys.exit(main(args))
