@@ -8,8 +8,9 @@
 #include "BenchReport.h"
 #include "sampler/Sampler.h"
 #include "scene/SceneJson.h"
+#include "sim/BodyInitialState.h"
 #include "sim/OdeRandom.h"
-#include "sim/WorldBuilder.h"
+#include "sim/OdeWorld.h"
 #include "sim/WorldSimulator.h"
 
 namespace mwb::bench {

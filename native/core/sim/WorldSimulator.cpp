@@ -10,7 +10,7 @@
 #include "sim/ImpactPerturber.h"
 #include "sim/OdeRandom.h"
 #include "sim/PortableRandom.h"
-#include "sim/WorldBuilder.h"
+#include "sim/OdeWorld.h"
 
 namespace mwb {
 namespace {
@@ -155,9 +155,9 @@ public:
             if (compiled_.bodies()[i].handoff_step > 0 && step_ > compiled_.bodies()[i].handoff_step)
                 world_->set_kinematic(i, false);
         }
-        auto& groups = world_->joint_groups();
+        const auto& groups = world_->joint_groups();
         for (size_t i = 0; i < groups.size() && i < checkpoint.joint_broken.size(); ++i)
-            if (checkpoint.joint_broken[i] && !groups[i].joints.empty()) break_joint(groups[i]);
+            if (checkpoint.joint_broken[i] && !groups[i].joints.empty()) world_->break_joint(i);
         ode_random_state_ = checkpoint.ode_random_state;
         perturbation_random_ = PortableRandom(checkpoint.perturbation_random_state);
         std::copy_n(checkpoint.body_rest_since_s.begin(), std::min(checkpoint.body_rest_since_s.size(), rest_since_s_.size()),
@@ -241,7 +241,7 @@ private:
             }
             if (!after_step(i, t_after)) return;
         }
-        check_breaking_joints();
+        world_->break_overloaded_joints();
     }
 
     /// Whether body i follows its keyed animation in the current step (before its handoff).
@@ -405,22 +405,6 @@ private:
         return false;
     }
 
-    void break_joint(JointGroup& group) {
-        for (dJointID joint : group.joints) dJointDisable(joint);
-        group.broken = true;
-    }
-
-    void check_breaking_joints() {
-        const auto& constraints = compiled_.scene().constraints;
-        auto& groups = world_->joint_groups();
-        for (size_t i = 0; i < groups.size(); ++i) {
-            JointGroup& group = groups[i];
-            if (group.broken || !group.feedback) continue;
-            const Vec3 force{group.feedback->f1[0], group.feedback->f1[1], group.feedback->f1[2]};
-            if (norm(force) * compiled_.physics_dt_s() > constraints[i].breaking_threshold) break_joint(group);
-        }
-    }
-
     bool world_at_rest(double t) const {
         const Scene& scene = compiled_.scene();
         for (size_t i = 0; i < scene.bodies.size(); ++i) {
@@ -547,8 +531,8 @@ private:
         return u <= 0 ? a : interpolate(a, replay_frame(i, f + 1), u);
     }
 
-    // Sets a body's centre of mass on the replayed path at t, moving towards where it is one step later.
-    void place_on_replay(dBodyID body, size_t i, double t) {
+    // Centre-of-mass state of body i on the replayed path at t, moving towards where it is one step later.
+    BodyState replay_state(size_t i, double t) const {
         const double dt_anim = 1.0 / compiled_.step_hz();
         const Vec3& offset = compiled_.bodies()[i].body_frame_offset_m;
         const Transform now = replay_pose(i, t), next = replay_pose(i, t + dt_anim);
@@ -557,17 +541,13 @@ private:
         const double dt = compiled_.physics_dt_s();
         const Vec3 v = scale(sub(com_next, com_now), 1.0 / dt);
         const Vec3 w = angular_velocity_between(now.rotation, next.rotation, dt);
-        dBodySetPosition(body, com_now[0], com_now[1], com_now[2]);
-        dQuaternion q{now.rotation[0], now.rotation[1], now.rotation[2], now.rotation[3]};
-        dBodySetQuaternion(body, q);
-        dBodySetLinearVel(body, v[0], v[1], v[2]);
-        dBodySetAngularVel(body, w[0], w[1], w[2]);
+        return {com_now, now.rotation, v, w};
     }
 
     void drive_replayed_bodies(double t) {
         for (size_t i = 0; i < compiled_.bodies().size(); ++i)
-            if (replayed(static_cast<int32_t>(i))) place_on_replay(world_->bodies()[i], i, t);
-        for (uint32_t body : ghosts_) place_on_replay(world_->ghost_body(body), body, t);
+            if (replayed(static_cast<int32_t>(i))) world_->set_body_state(i, replay_state(i, t));
+        for (uint32_t body : ghosts_) world_->set_ghost_state(body, replay_state(body, t));
     }
 
     // A refined world before its branch is its parent's; so are the events of bodies it did not
