@@ -22,8 +22,6 @@ void to_ode_quaternion(const Quat& q, dQuaternion out) {
     for (int k = 0; k < 4; ++k) out[k] = q[k];
 }
 
-Vec3 from_ode(const dReal* v) { return {v[0], v[1], v[2]}; }
-
 void set_state(dBodyID body, const BodyState& s) {
     dBodySetPosition(body, s.position_m[0], s.position_m[1], s.position_m[2]);
     dQuaternion q;

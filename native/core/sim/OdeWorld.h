@@ -25,6 +25,9 @@ struct OdeError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+/// An ODE vector (body position, velocity, contact point) as a Vec3.
+inline Vec3 from_ode(const dReal* v) { return {v[0], v[1], v[2]}; }
+
 /// What a geom belongs to; the geom's user data is its index in OdeWorld::geom_owners().
 struct GeomOwner {
     int32_t body = -1;
