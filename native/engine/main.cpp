@@ -21,6 +21,7 @@
 #include "library/ByteIO.h"
 #include "library/LibraryReader.h"
 #include "library/LibraryFormat.h"
+#include "library/LibraryMerge.h"
 #include "library/LibraryWriter.h"
 #include "refine/StoredWorldRefinement.h"
 #include "sampler/Sampler.h"

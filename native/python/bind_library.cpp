@@ -8,6 +8,7 @@
 
 #include "codec/CodecError.h"
 #include "library/ByteIO.h"
+#include "library/LibraryMerge.h"
 #include "library/LibraryReader.h"
 #include "library/WorldDecoding.h"
 #include "PyLibrary.h"

@@ -8,8 +8,9 @@
 #include "BenchReport.h"
 #include "sampler/Sampler.h"
 #include "scene/SceneJson.h"
+#include "sim/BodyInitialState.h"
 #include "sim/OdeRandom.h"
-#include "sim/WorldBuilder.h"
+#include "sim/OdeWorld.h"
 #include "sim/WorldSimulator.h"
 
 namespace mwb::bench {
@@ -39,7 +40,7 @@ void bare_near_callback(void* data, dGeomID a, dGeomID b) {
 // Bare ODE: the same bodies and initial states, stepped `steps` times with no recording,
 // impact detection, perturbation or checkpoints.
 double bare_ode_seconds(const CompiledScene& compiled, uint64_t world_index, uint64_t steps) {
-    PortableRandom initial(derive_stream_seed(derive_world_seed(1, world_index), 0));
+    PortableRandom initial(derive_stream_seed(derive_world_seed(1, world_index), kInitialStateStream));
     OdeWorld world(compiled, draw_initial_states(compiled.scene(), initial));
     BareContext context{world.world(), world.contact_group()};
     uint64_t ode_random = 0;

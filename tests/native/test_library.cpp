@@ -11,6 +11,7 @@
 #include "SceneFixtures.h"
 #include "library/ByteIO.h"
 #include "library/LibraryFormat.h"
+#include "library/LibraryMerge.h"
 #include "library/LibraryReader.h"
 #include "library/LibraryWriter.h"
 #include "library/WorldDecoding.h"

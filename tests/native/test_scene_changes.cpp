@@ -11,6 +11,7 @@
 #include "WorldCompare.h"
 #include "codec/CodecError.h"
 #include "library/LibraryFormat.h"
+#include "library/LibraryMerge.h"
 #include "library/LibraryReader.h"
 #include "library/LibraryWriter.h"
 #include "library/SceneRevision.h"

@@ -1,3 +1,5 @@
+#include "library/LibraryMerge.h"
+
 #include <algorithm>
 #include <cstring>
 #include <map>

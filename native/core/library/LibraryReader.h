@@ -89,9 +89,4 @@ private:
     uint64_t file_size_ = 0;
 };
 
-/// Merges library files of the same run into `output` (which must not exist). Refuses, naming
-/// them, files of another run and world indices present in more than one input. Records are
-/// copied byte for byte, ordered by world index. Returns warnings from reading the inputs.
-std::vector<std::string> merge_libraries(const std::vector<std::string>& inputs, const std::string& output);
-
 }  // namespace mwb

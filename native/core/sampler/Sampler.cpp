@@ -6,7 +6,7 @@
 #include <exception>
 #include <mutex>
 
-#include "sim/WorldBuilder.h"
+#include "sim/OdeWorld.h"
 #include "sim/WorldSimulator.h"
 
 namespace mwb {

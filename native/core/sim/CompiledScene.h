@@ -59,6 +59,8 @@ public:
 
     /// Simulation steps per second of animation time (a multiple of record_hz).
     double step_hz() const { return step_hz_; }
+    /// Animation time at the start of step `step`, seconds.
+    double step_time_s(uint64_t step) const { return static_cast<double>(step) / step_hz_; }
     /// Physics time advanced per step, seconds (animation step × Blender's time scale).
     double physics_dt_s() const { return scene_.world.time_scale / step_hz_; }
     uint32_t steps_per_frame() const { return steps_per_frame_; }

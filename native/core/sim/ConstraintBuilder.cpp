@@ -1,8 +1,6 @@
-// Maps Blender's rigid-body constraint types onto ODE joints. Blender measures hinge angles and
-// slider positions from the pose at the start of the simulation, as ODE does from joint creation.
-#include <cmath>
+#include "sim/ConstraintBuilder.h"
 
-#include "sim/WorldBuilder.h"
+#include <utility>
 
 namespace mwb {
 namespace {
@@ -42,14 +40,9 @@ void set_motor(dJointID joint, void (*set)(dJointID, int, dReal), double velocit
 
 }  // namespace
 
-void OdeWorld::create_constraint(size_t constraint_index) {
-    const Scene& scene = compiled_.scene();
-    const Constraint& c = scene.constraints[constraint_index];
-    const int ia = scene.body_index(c.body_a);
-    const int ib = scene.body_index(c.body_b);
-    dBodyID a = ia >= 0 ? bodies_[ia] : nullptr;
-    dBodyID b = ib >= 0 ? bodies_[ib] : nullptr;
-    if (!a && !b) return;  // both static: nothing can move
+JointGroup build_constraint_joints(dWorldID world, const Constraint& c, dBodyID a, dBodyID b, double step_s) {
+    JointGroup group;
+    if (!a && !b) return group;  // both static: nothing can move
     // ODE needs the moving body first; Blender measures object A against object B, so limits,
     // springs and motors of a swapped pair change sign.
     const bool flipped = !a;
@@ -58,8 +51,6 @@ void OdeWorld::create_constraint(size_t constraint_index) {
     const Vec3& p = c.frame.location;
     const Vec3 x_axis = quat_rotate(c.frame.rotation, {1, 0, 0});
     const Vec3 z_axis = quat_rotate(c.frame.rotation, {0, 0, 1});
-    const double h = compiled_.physics_dt_s();
-    JointGroup& group = joint_groups_[constraint_index];
     auto add_joint = [&](dJointID joint) {
         dJointAttach(joint, a, b);
         group.joints.push_back(joint);
@@ -67,17 +58,17 @@ void OdeWorld::create_constraint(size_t constraint_index) {
     };
     switch (c.type) {
         case ConstraintType::Fixed: {
-            dJointID j = add_joint(dJointCreateFixed(world_, nullptr));
+            dJointID j = add_joint(dJointCreateFixed(world, nullptr));
             dJointSetFixed(j);
             break;
         }
         case ConstraintType::Point: {
-            dJointID j = add_joint(dJointCreateBall(world_, nullptr));
+            dJointID j = add_joint(dJointCreateBall(world, nullptr));
             dJointSetBallAnchor(j, p[0], p[1], p[2]);
             break;
         }
         case ConstraintType::Hinge: {
-            dJointID j = add_joint(dJointCreateHinge(world_, nullptr));
+            dJointID j = add_joint(dJointCreateHinge(world, nullptr));
             dJointSetHingeAnchor(j, p[0], p[1], p[2]);
             dJointSetHingeAxis(j, z_axis[0], z_axis[1], z_axis[2]);
             set_limits(j, dJointSetHingeParam, 0, c.angular_limits.enabled[2], c.angular_limits.lower[2],
@@ -85,14 +76,14 @@ void OdeWorld::create_constraint(size_t constraint_index) {
             break;
         }
         case ConstraintType::Slider: {
-            dJointID j = add_joint(dJointCreateSlider(world_, nullptr));
+            dJointID j = add_joint(dJointCreateSlider(world, nullptr));
             dJointSetSliderAxis(j, x_axis[0], x_axis[1], x_axis[2]);
             set_limits(j, dJointSetSliderParam, 0, c.linear_limits.enabled[0], c.linear_limits.lower[0],
                        c.linear_limits.upper[0], flipped);
             break;
         }
         case ConstraintType::Piston: {
-            dJointID j = add_joint(dJointCreatePiston(world_, nullptr));
+            dJointID j = add_joint(dJointCreatePiston(world, nullptr));
             dJointSetPistonAnchor(j, p[0], p[1], p[2]);
             dJointSetPistonAxis(j, x_axis[0], x_axis[1], x_axis[2]);
             set_limits(j, dJointSetPistonParam, 0, c.linear_limits.enabled[0], c.linear_limits.lower[0],
@@ -105,9 +96,9 @@ void OdeWorld::create_constraint(size_t constraint_index) {
         case ConstraintType::GenericSpring: {
             // Validation guarantees locked linear axes: a ball joint plus an Euler angular motor
             // carrying the angular limits and springs.
-            dJointID ball = add_joint(dJointCreateBall(world_, nullptr));
+            dJointID ball = add_joint(dJointCreateBall(world, nullptr));
             dJointSetBallAnchor(ball, p[0], p[1], p[2]);
-            dJointID motor = add_joint(dJointCreateAMotor(world_, nullptr));
+            dJointID motor = add_joint(dJointCreateAMotor(world, nullptr));
             dJointSetAMotorMode(motor, dAMotorEuler);
             dJointSetAMotorAxis(motor, 0, 1, x_axis[0], x_axis[1], x_axis[2]);
             dJointSetAMotorAxis(motor, 2, b ? 2 : 0, z_axis[0], z_axis[1], z_axis[2]);
@@ -118,23 +109,23 @@ void OdeWorld::create_constraint(size_t constraint_index) {
                                c.angular_limits.upper[axis], flipped);
                 } else if (spring) {
                     set_spring(motor, dJointSetAMotorParam, axis, c.angular_springs.stiffness[axis],
-                               c.angular_springs.damping[axis], h);
+                               c.angular_springs.damping[axis], step_s);
                 }
             }
             break;
         }
         case ConstraintType::Motor: {
             if (c.motor_angular_enabled) {
-                dJointID j = add_joint(dJointCreateAMotor(world_, nullptr));
+                dJointID j = add_joint(dJointCreateAMotor(world, nullptr));
                 dJointSetAMotorNumAxes(j, 1);
                 dJointSetAMotorAxis(j, 0, 1, x_axis[0], x_axis[1], x_axis[2]);
-                set_motor(j, dJointSetAMotorParam, sign * c.motor_angular_target_velocity, c.motor_angular_max_impulse, h);
+                set_motor(j, dJointSetAMotorParam, sign * c.motor_angular_target_velocity, c.motor_angular_max_impulse, step_s);
             }
             if (c.motor_linear_enabled) {
-                dJointID j = add_joint(dJointCreateLMotor(world_, nullptr));
+                dJointID j = add_joint(dJointCreateLMotor(world, nullptr));
                 dJointSetLMotorNumAxes(j, 1);
                 dJointSetLMotorAxis(j, 0, 1, x_axis[0], x_axis[1], x_axis[2]);
-                set_motor(j, dJointSetLMotorParam, sign * c.motor_linear_target_velocity, c.motor_linear_max_impulse, h);
+                set_motor(j, dJointSetLMotorParam, sign * c.motor_linear_target_velocity, c.motor_linear_max_impulse, step_s);
             }
             break;
         }
@@ -143,6 +134,7 @@ void OdeWorld::create_constraint(size_t constraint_index) {
         group.feedback = std::make_unique<dJointFeedback>();
         dJointSetFeedback(group.joints.front(), group.feedback.get());
     }
+    return group;
 }
 
 }  // namespace mwb

@@ -33,4 +33,8 @@ uint64_t derive_world_seed(uint64_t base_seed, uint64_t world_index);
 /// Seed of an independent stream `stream` (initial conditions, perturbations, ...) of one world.
 uint64_t derive_stream_seed(uint64_t world_seed, uint64_t stream);
 
+/// The streams of one world: its bodies' initial states, and the perturbations of its impacts.
+constexpr uint64_t kInitialStateStream = 0;
+constexpr uint64_t kPerturbationStream = 1;
+
 }  // namespace mwb

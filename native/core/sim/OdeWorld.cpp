@@ -1,4 +1,4 @@
-#include "sim/WorldBuilder.h"
+#include "sim/OdeWorld.h"
 
 #include <algorithm>
 #include <cmath>
@@ -22,7 +22,14 @@ void to_ode_quaternion(const Quat& q, dQuaternion out) {
     for (int k = 0; k < 4; ++k) out[k] = q[k];
 }
 
-Vec3 from_ode(const dReal* v) { return {v[0], v[1], v[2]}; }
+void set_state(dBodyID body, const BodyState& s) {
+    dBodySetPosition(body, s.position_m[0], s.position_m[1], s.position_m[2]);
+    dQuaternion q;
+    to_ode_quaternion(s.orientation, q);
+    dBodySetQuaternion(body, q);
+    dBodySetLinearVel(body, s.linear_velocity[0], s.linear_velocity[1], s.linear_velocity[2]);
+    dBodySetAngularVel(body, s.angular_velocity[0], s.angular_velocity[1], s.angular_velocity[2]);
+}
 
 }  // namespace
 
@@ -44,32 +51,6 @@ void prepare_ode_thread() {
         dAllocateODEDataForThread(dAllocateMaskAll);
         prepared = true;
     }
-}
-
-std::vector<BodyInitialState> draw_initial_states(const Scene& scene, PortableRandom& random) {
-    std::vector<BodyInitialState> states;
-    states.reserve(scene.bodies.size());
-    for (const Body& body : scene.bodies) {
-        const VariationRanges& v = body.variation;
-        BodyInitialState s;
-        Vec3 offset, euler, lin, ang;
-        for (int k = 0; k < 3; ++k) offset[k] = random.uniform(v.location_min_m[k], v.location_max_m[k]);
-        for (int k = 0; k < 3; ++k) euler[k] = random.uniform(v.rotation_min_rad[k], v.rotation_max_rad[k]);
-        for (int k = 0; k < 3; ++k) lin[k] = random.uniform(v.linear_velocity_min[k], v.linear_velocity_max[k]);
-        for (int k = 0; k < 3; ++k) ang[k] = random.uniform(v.angular_velocity_min[k], v.angular_velocity_max[k]);
-        const double mass_scale = random.uniform(v.mass_scale_min, v.mass_scale_max);
-        const double friction_scale = random.uniform(v.friction_scale_min, v.friction_scale_max);
-        const double restitution_scale = random.uniform(v.restitution_scale_min, v.restitution_scale_max);
-        s.pose.location = add(body.initial.location, offset);
-        s.pose.rotation = quat_normalized(quat_multiply(quat_from_euler_xyz(euler), body.initial.rotation));
-        s.linear_velocity = add(body.initial_linear_velocity, lin);
-        s.angular_velocity = add(body.initial_angular_velocity, ang);
-        s.mass_kg = body.mass_kg * mass_scale;
-        s.friction = body.friction * friction_scale;
-        s.restitution = body.restitution * restitution_scale;
-        states.push_back(s);
-    }
-    return states;
 }
 
 OdeWorld::OdeWorld(const CompiledScene& compiled, const std::vector<BodyInitialState>& initial,
@@ -197,11 +178,12 @@ void OdeWorld::create_constraints() {
     joint_groups_.resize(scene.constraints.size());
     for (size_t i = 0; i < scene.constraints.size(); ++i) {
         const Constraint& c = scene.constraints[i];
-        if (c.disable_collisions)
-            no_collision_pairs_.emplace_back(std::min(scene.body_index(c.body_a), scene.body_index(c.body_b)),
-                                             std::max(scene.body_index(c.body_a), scene.body_index(c.body_b)));
-        if (c.enabled && is_present(scene.body_index(c.body_a)) && is_present(scene.body_index(c.body_b)))
-            create_constraint(i);
+        const int a = scene.body_index(c.body_a);
+        const int b = scene.body_index(c.body_b);
+        if (c.disable_collisions) no_collision_pairs_.emplace_back(std::min(a, b), std::max(a, b));
+        if (c.enabled && is_present(a) && is_present(b))
+            joint_groups_[i] = build_constraint_joints(world_, c, a >= 0 ? bodies_[a] : nullptr,
+                                                       b >= 0 ? bodies_[b] : nullptr, compiled_.physics_dt_s());
     }
     std::sort(no_collision_pairs_.begin(), no_collision_pairs_.end());
 }
@@ -227,15 +209,10 @@ BodyState OdeWorld::body_state(size_t i) const {
 }
 
 void OdeWorld::set_body_state(size_t i, const BodyState& s) {
-    dBodyID body = bodies_[i];
-    if (!body) return;
-    dBodySetPosition(body, s.position_m[0], s.position_m[1], s.position_m[2]);
-    dQuaternion q;
-    to_ode_quaternion(s.orientation, q);
-    dBodySetQuaternion(body, q);
-    dBodySetLinearVel(body, s.linear_velocity[0], s.linear_velocity[1], s.linear_velocity[2]);
-    dBodySetAngularVel(body, s.angular_velocity[0], s.angular_velocity[1], s.angular_velocity[2]);
+    if (bodies_[i]) set_state(bodies_[i], s);
 }
+
+void OdeWorld::set_ghost_state(size_t i, const BodyState& s) { set_state(ghost_bodies_[i], s); }
 
 void OdeWorld::set_kinematic(size_t i, bool kinematic) {
     if (!bodies_[i]) return;
@@ -258,6 +235,22 @@ void OdeWorld::set_ghost_enabled(size_t i, bool enabled) {
     for (dGeomID geom : ghost_geoms_[i]) {
         if (enabled) dGeomEnable(geom);
         else dGeomDisable(geom);
+    }
+}
+
+void OdeWorld::break_joint(size_t constraint_index) {
+    JointGroup& group = joint_groups_[constraint_index];
+    for (dJointID joint : group.joints) dJointDisable(joint);
+    group.broken = true;
+}
+
+void OdeWorld::break_overloaded_joints() {
+    const auto& constraints = compiled_.scene().constraints;
+    for (size_t i = 0; i < joint_groups_.size(); ++i) {
+        const JointGroup& group = joint_groups_[i];
+        if (group.broken || !group.feedback) continue;
+        const Vec3 force{group.feedback->f1[0], group.feedback->f1[1], group.feedback->f1[2]};
+        if (norm(force) * compiled_.physics_dt_s() > constraints[i].breaking_threshold) break_joint(i);
     }
 }
 

@@ -1,0 +1,96 @@
+#include "sim/ContactGenerator.h"
+
+#include <algorithm>
+#include <mutex>
+#include <utility>
+
+namespace mwb {
+namespace {
+
+constexpr int kMaxContactsPerPair = 4;
+
+// libode has one scratch cache for triangle-mesh collisions in this build; two threads in it at
+// once corrupt each other.
+std::mutex g_trimesh_mutex;
+
+// Up to `max` contacts between two geoms, holding the mesh lock when either is a triangle mesh.
+int collide(dGeomID a, dGeomID b, bool either_is_mesh, int max, dContactGeom* out) {
+    if (!either_is_mesh) return dCollide(a, b, max, out, sizeof(dContactGeom));
+    std::lock_guard<std::mutex> lock(g_trimesh_mutex);
+    return dCollide(a, b, max, out, sizeof(dContactGeom));
+}
+
+intptr_t geom_index(dGeomID geom) { return reinterpret_cast<intptr_t>(dGeomGetData(geom)); }
+
+void collect_pair(void* data, dGeomID a, dGeomID b) {
+    intptr_t ia = geom_index(a), ib = geom_index(b);
+    if (ia > ib) {
+        std::swap(ia, ib);
+        std::swap(a, b);
+    }
+    static_cast<std::vector<CandidatePair>*>(data)->push_back({ia, ib, a, b});
+}
+
+}  // namespace
+
+ContactGenerator::ContactGenerator(OdeWorld& world, const BodyRoles& roles) : world_(world), roles_(roles) {}
+
+void ContactGenerator::find_candidate_pairs() {
+    candidates_.clear();
+    dSpaceCollide(world_.space(), &candidates_, collect_pair);
+    std::sort(candidates_.begin(), candidates_.end());
+    deepest_.assign(world_.bodies().size(), DeepestContact{});
+}
+
+void ContactGenerator::create_contacts() {
+    for (const CandidatePair& pair : candidates_) collide_pair(pair);
+}
+
+bool ContactGenerator::touching(const CandidatePair& pair) const {
+    const auto& owners = world_.geom_owners();
+    const bool either_is_mesh = owners[pair.first_index].is_mesh || owners[pair.second_index].is_mesh;
+    dContactGeom contact;
+    return collide(pair.first, pair.second, either_is_mesh, 1, &contact) != 0;
+}
+
+void ContactGenerator::collide_pair(const CandidatePair& pair) {
+    const auto& owners = world_.geom_owners();
+    const GeomOwner& oa = owners[pair.first_index];
+    const GeomOwner& ob = owners[pair.second_index];
+    if (oa.body == ob.body || oa.ghost || ob.ghost) return;
+    if (!roles_.simulated(oa.body) && !roles_.simulated(ob.body)) return;
+    if (world_.collision_disabled(oa.body, ob.body)) return;
+    dContactGeom contacts[kMaxContactsPerPair];
+    const int count = collide(pair.first, pair.second, oa.is_mesh || ob.is_mesh, kMaxContactsPerPair, contacts);
+    if (count == 0) return;
+    const BodyInitialState& ma = world_.initial_states()[oa.body];
+    const BodyInitialState& mb = world_.initial_states()[ob.body];
+    dSurfaceParameters surface{};
+    // Bullet (Blender) combines friction and restitution by multiplication.
+    surface.mode = dContactApprox1;
+    surface.mu = ma.friction * mb.friction;
+    const double bounce = ma.restitution * mb.restitution;
+    if (bounce > 0) {
+        surface.mode |= dContactBounce;
+        surface.bounce = bounce;
+        surface.bounce_vel = 0.1;
+    }
+    dBodyID ba = world_.bodies()[oa.body];
+    dBodyID bb = world_.bodies()[ob.body];
+    for (int k = 0; k < count; ++k) {
+        dContact contact{};
+        contact.surface = surface;
+        contact.geom = contacts[k];
+        dJointID joint = dJointCreateContact(world_.world(), world_.contact_group(), &contact);
+        dJointAttach(joint, ba, bb);
+        note_contact(oa.body, ob.body, contacts[k]);
+        note_contact(ob.body, oa.body, contacts[k]);
+    }
+}
+
+void ContactGenerator::note_contact(int32_t body, int32_t other, const dContactGeom& contact) {
+    DeepestContact& slot = deepest_[body];
+    if (contact.depth > slot.depth) slot = {other, contact.depth, from_ode(contact.pos), from_ode(contact.normal)};
+}
+
+}  // namespace mwb
