@@ -38,7 +38,7 @@ def register():
 
 def unregister():
     import bpy
-    from . import draw, handlers, keymaps, preview, props, queries
+    from . import draw, handlers, keymaps, preview, props, scene_boxes
     from .core.session import SESSION
     from .operators import sampling
     from . import compat
@@ -49,7 +49,7 @@ def unregister():
     keymaps.remove()
     draw.remove_handlers()
     handlers.remove()
-    queries.RANKING.clear()
+    scene_boxes.RANKING.clear()
     SESSION.close()
     props.unregister_properties()
     for cls in reversed(_classes()):

@@ -32,7 +32,7 @@ import numpy as np  # noqa: E402
 from . import _native  # noqa: E402
 from .core import contact_sheet, engine, paths  # noqa: E402
 from .core.library_view import LibraryView  # noqa: E402
-from .core.query import BOXES_MET, BoxSpec, LibraryQuery, metric_name  # noqa: E402
+from .core.library_query import BOXES_MET, BoxSpec, LibraryQuery, metric_name  # noqa: E402
 
 METRICS = tuple(m.name for m in _native.ranking_metrics())
 

@@ -2,7 +2,7 @@
 frame change."""
 import bpy
 
-from . import preview, queries
+from . import preview, scene_boxes
 from .core.session import SESSION
 from .draw import paths
 from .operators import browsing
@@ -26,7 +26,7 @@ def on_load_post(*_args):
 def on_undo_redo(*_args):
     # Undo restores the boxes (scene properties) but not the runtime match flags: recompute.
     if SESSION.view is not None:
-        queries.refresh(bpy.context.scene)
+        scene_boxes.refresh(bpy.context.scene)
 
 
 _HANDLERS = ((bpy.app.handlers.load_post, on_load_post),

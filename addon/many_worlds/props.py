@@ -78,8 +78,8 @@ def _tag_redraw(self, context):
 
 def _on_box_change(self, context):
     # Any edit of a box changes which worlds match; the import is late to keep modules free of cycles.
-    from . import queries
-    queries.refresh(context.scene)
+    from . import scene_boxes
+    scene_boxes.refresh(context.scene)
 
 
 class MWB_BodyName(bpy.types.PropertyGroup):

@@ -17,7 +17,7 @@ from conftest import add_rigid_body, cancel_after_finished, mesh_object, sample_
 from test_queries import PROJECTION, SIZE, VIEW, add_box, matching_worlds, to_screen
 from test_refining import pump, select_only
 
-from many_worlds import queries
+from many_worlds import scene_boxes
 from many_worlds.core import arrays, paths
 from many_worlds.core import family as core_family
 from many_worlds.core.session import SESSION
@@ -130,7 +130,7 @@ def test_an_added_ball_exists_in_the_children_and_only_what_it_touches_changes(d
         assert core_family.relation_text(line, view.body_names) == f"child of {parent}: +Ball"
     # The children are listed and indexed with the ball's path.
     assert [w.world_index for w in bpy.context.scene.mwb.worlds] == view.world_indices
-    lq = queries.library_query()
+    lq = scene_boxes.library_query()
     lq.sync()
     assert lq.index.world_count == len(view.world_indices)
     segments = path_overlay.OVERLAY.world_segments(view, children[0], (ball,))
@@ -217,7 +217,7 @@ def test_an_object_moved_after_sampling_is_updated_as_a_body_of_its_own(domino_s
     bpy.ops.mwb.select_world(world=with_ball)
     assert np.allclose(ball.matrix_world.translation, BALL_START, atol=2e-3)
     # Queries and rankings name the object: either of its bodies, whichever a world has.
-    assert set(queries.body_indices(["Ball"], view)) == {old, new}
+    assert set(scene_boxes.body_indices(["Ball"], view)) == {old, new}
     # Updating it again, unchanged, is refused by the engine with the reason.
     bpy.ops.mwb.select_world(world=updated)
     bpy.context.scene.mwb.refine_count = 1
@@ -319,9 +319,9 @@ def test_a_box_on_a_removed_body_never_matches_the_worlds_without_it(stack_scene
     assert matching_worlds() == set(parents) | set(children)
     bpy.ops.mwb.clear_boxes()
     # Ranking over the lower box lists only the worlds it is in.
-    ids, values = queries.library_query().rank("path_length_m", [body("Lower")])
+    ids, values = scene_boxes.library_query().rank("path_length_m", [body("Lower")])
     assert sorted(ids.tolist()) == sorted(parents) and np.isfinite(values).all()
-    ids, values = queries.library_query().rank("orientation_to_goal_rad", [body("Lower"), body("Upper")])
+    ids, values = scene_boxes.library_query().rank("orientation_to_goal_rad", [body("Lower"), body("Upper")])
     assert sorted(ids.tolist()) == sorted(parents + children) and np.isfinite(values).all()
 
 

@@ -10,7 +10,7 @@ import pytest
 from camera_math import look_at, perspective
 from conftest import drop_scene, sample_and_wait, save_blend
 
-from many_worlds import _native, queries
+from many_worlds import _native, scene_boxes
 from many_worlds.core.session import SESSION
 
 SIZE = (1600, 1000)
@@ -76,7 +76,7 @@ def test_a_box_matches_a_direct_index_query_and_the_decoded_paths(sampled):
     assert ours == direct
     assert world in ours and 0 < len(ours) < len(view.world_indices), "the box should split the worlds"
     # The index answers in world order, the view in file order: the mapping must not mix worlds up.
-    lq = queries.library_query()
+    lq = scene_boxes.library_query()
     for w, satisfied in zip(result["world_indices"], result["boxes_satisfied"]):
         assert lq.result.boxes_satisfied[view.world_indices.index(int(w))] == satisfied
 
@@ -150,7 +150,7 @@ def test_ranking_follows_the_library_metric_over_the_matching_worlds(sampled, me
     settings = bpy.context.scene.mwb
     settings.rank_metric, settings.rank_combine, settings.rank_descending = metric, combine, descending
     settings.rank_bodies = "SIMULATED"
-    ranking = queries.RANKING.get(bpy.context)
+    ranking = scene_boxes.RANKING.get(bpy.context)
     bodies = view.simulated_bodies()
     expected_values = {w: library_metric(w, metric, bodies, combine) for w in matching}
     assert set(ranking.ids.tolist()) == matching
@@ -167,7 +167,7 @@ def test_boxes_met_lists_every_world_with_its_count(sampled):
     per_box = [direct_matches([(rect, False, ["Box0", "Box1"], None)])[0] for rect in rects]
     settings = bpy.context.scene.mwb
     settings.rank_metric, settings.rank_descending = "boxes_met", True
-    ranking = queries.RANKING.get(bpy.context)
+    ranking = scene_boxes.RANKING.get(bpy.context)
     assert sorted(ranking.ids.tolist()) == worlds, "every world is listed, not only the matching ones"
     for w, value in zip(ranking.ids, ranking.values):
         assert value == sum(int(w) in matches for matches in per_box)
@@ -190,7 +190,7 @@ def test_boxes_and_ranking_settings_survive_save_and_reload(sampled, tmp_path):
     with bpy.context.temp_override(selected_objects=[bpy.data.objects["Box1"]]):
         assert bpy.ops.mwb.rank_use_selected() == {"FINISHED"}
     before = matching_worlds()
-    ranked_before = queries.RANKING.get(bpy.context).ids.tolist()
+    ranked_before = scene_boxes.RANKING.get(bpy.context).ids.tolist()
     bpy.ops.wm.save_mainfile()
     bpy.ops.wm.read_factory_settings(use_empty=True)
     assert SESSION.view is None
@@ -207,7 +207,7 @@ def test_boxes_and_ranking_settings_survive_save_and_reload(sampled, tmp_path):
     assert settings.rank_bodies == "LISTED" and [b.name for b in settings.rank_body_names] == ["Box1"]
     # The reopened library is queried with the saved boxes straight away.
     assert matching_worlds() == before
-    assert queries.RANKING.get(bpy.context).ids.tolist() == ranked_before
+    assert scene_boxes.RANKING.get(bpy.context).ids.tolist() == ranked_before
 
 
 def test_worlds_arriving_while_sampling_are_queried(sampled):
@@ -215,6 +215,6 @@ def test_worlds_arriving_while_sampling_are_queried(sampled):
     add_box(rect)
     sample_and_wait(16)
     assert len(SESSION.view.world_indices) == 40
-    assert queries.library_query().index.world_count == 40
+    assert scene_boxes.library_query().index.world_count == 40
     assert matching_worlds() == direct_matches([(rect, False, ["Box0", "Box1"], None)])[0]
 

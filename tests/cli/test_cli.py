@@ -39,8 +39,8 @@ def library(tmp_path_factory):
 
 def test_info_reports_what_the_library_holds(library):
     info = json.loads("\n".join(output_lines(cli("info", str(library), "--json"))))
-    assert info.worlds == 12 and info.rejected == 0
-    assert 0 < info.motion_bytes_per_body_frame < 28
+    assert info["worlds"] == 12 and info["rejected"] == 0
+    assert 0 < info["motion_bytes_per_body_frame"] < 28
 
 
 def test_query_of_the_whole_view_keeps_every_world_and_its_negative_none(library):

@@ -3,7 +3,8 @@ perturbation off, and compares the kind of outcome (SPEC §12): which bodies fal
 rest, where they rest, how fast anything goes, which breakable constraints end broken.
 
 Inside Blender:
-    blender -b --factory-startup --python-exit-code 1 --python tests/fidelity/compare.py -- [SCENE ...] [--out DIR]
+    blender -b --factory-startup --python-exit-code 1 --python tests/fidelity/compare.py -- \
+        [SCENE ...] [--out DIR]
 prints each scene's JSON report and a one-line verdict, writes DIR/<scene>.json when --out is
 given, and exits 1 if a scene fails.
 
@@ -11,12 +12,18 @@ Both sides are compared at Blender's frames: Blender frame f is engine time (f -
 A scene passes when every criterion holds, or when every body or constraint on which a criterion
 fails is named by an export warning ("object: setting: reason"); a warning on a constraint covers
 the two bodies it joins and one on a body covers its constraints.
+
+The engine's world is simulated in a forked copy of Blender, so that a world which aborts inside
+ODE fails its scene ("crashed") instead of ending Blender and the rest of the suite.
 """
 import json
-import math
 import os
+import pickle
+import select
+import signal
 import sys
 import time
+import traceback
 
 import bpy
 import numpy as np
@@ -35,6 +42,7 @@ HEIGHT_TOLERANCE_M = 0.01   # resting heights within a centimetre
 SPEED_RATIO = 1.5           # nothing faster than 1.5x Bullet's fastest body
 FALL_M = 0.05               # a body fell if it ends this much lower than it started
 BROKEN_DISTANCE_M = 0.05    # a constraint broke if its bodies' distance changed by more
+ENGINE_TIMEOUT_S = 120      # a world that takes longer has hung
 
 PASS, COVERED, FAIL = "PASS", "PASS (divergence covered by export warnings)", "FAIL"
 
@@ -49,6 +57,7 @@ def ensure_registered():
 
 
 def rigid_body_objects(scene):
+    """The objects of the Rigid Body World's collection that have a rigid body, by name."""
     rbw = scene.rigidbody_world
     return sorted((ob for ob in rbw.collection.objects if ob.rigid_body is not None), key=lambda ob: ob.name)
 
@@ -68,7 +77,7 @@ def breakable_constraints(scene):
 
 def simulate_in_blender(scene):
     """Step Blender's simulation through every frame of the range; returns
-    ({name: float64 (frames, 3) object origins}, seconds)."""
+    ({name: float64 (frames, 3) object origins}, {name: final unit quaternion (w, x, y, z)}, seconds)."""
     objects = rigid_body_objects(scene)
     start = time.perf_counter()
     scene.frame_set(scene.frame_start)
@@ -77,19 +86,20 @@ def simulate_in_blender(scene):
         scene.frame_set(frame)
         for ob in objects:
             tracks[ob.name].append(tuple(ob.matrix_world.translation))
+    final = {ob.name: np.array(ob.matrix_world.to_quaternion()) for ob in objects}
+    elapsed = time.perf_counter() - start
     scene.frame_set(scene.frame_start)
-    return {name: np.array(rows) for name, rows in tracks.items()}, time.perf_counter() - start
+    return {name: np.array(rows) for name, rows in tracks.items()}, final, elapsed
 
 
 def simulate_in_engine(scene):
     """Export the scene with the add-on and simulate one unperturbed world in-process.
     Returns a dict: tracks ({name: (frames, 3)} at Blender's frames, or None if the scene could not
-    be simulated), warnings, validation errors, status, joints broken at the last checkpoint, and
-    seconds spent exporting and simulating."""
-    from many_worlds import _native
+    be simulated), final orientations ({name: (w, x, y, z)}), warnings, validation errors, status,
+    joints broken at the last checkpoint, and seconds spent exporting and simulating."""
     from many_worlds.export import export_and_validate
-    out = {"tracks": None, "warnings": [], "validation_errors": [], "status": "not run", "reject_reason": "",
-           "engine_joint_broken": {}, "export_s": 0.0, "engine_s": 0.0}
+    out = {"tracks": None, "final_orientations": {}, "warnings": [], "validation_errors": [],
+           "status": "not run", "reject_reason": "", "engine_joint_broken": {}, "export_s": 0.0, "engine_s": 0.0}
     start = time.perf_counter()
     result, invalid = export_and_validate(bpy.context)
     out["export_s"] = time.perf_counter() - start
@@ -97,28 +107,79 @@ def simulate_in_engine(scene):
     out["validation_errors"] = list(invalid)
     if result.scene is None or invalid:
         return out
-    native_scene = _native.Scene.from_json(result.to_json())
-    params = _native.SimulationParameters()
-    params.perturb = False
-    params.stop_at_rest = False
     start = time.perf_counter()
-    world = _native.sample(native_scene, params, 0, 0, 1, threads=1)[0]
+    world = run_isolated(simulate_world, result.to_json())
     out["engine_s"] = time.perf_counter() - start
-    out["status"], out["reject_reason"] = world.status, world.reject_reason
-    if world.status != "ok":
+    out["status"], out["reject_reason"] = world["status"], world["reject_reason"]
+    if world["status"] != "ok":
         return out
     fps = scene.render.fps / scene.render.fps_base
     frame_start = result.scene["world"]["frame_start"]
-    index = [round((f - frame_start) * world.record_hz / fps) for f in range(scene.frame_start, scene.frame_end + 1)]
-    positions = world.positions
-    if index[-1] >= world.frame_count:
-        raise RuntimeError(f"the engine recorded {world.frame_count} frames, Blender's range needs {index[-1] + 1}")
-    out["tracks"] = {name: positions[k, index] for k, name in enumerate(native_scene.body_names)}
-    checkpoints = world.checkpoints
-    if checkpoints:
-        broken = checkpoints[-1]["joint_broken"]
-        out["engine_joint_broken"] = {name: bool(b) for name, b in zip(native_scene.constraint_names, broken)}
+    frames = range(scene.frame_start, scene.frame_end + 1)
+    index = [round((f - frame_start) * world["record_hz"] / fps) for f in frames]
+    positions = world["positions"]
+    if index[-1] >= positions.shape[1]:
+        raise RuntimeError(f"the engine recorded {positions.shape[1]} frames, Blender's range needs {index[-1] + 1}")
+    names = world["body_names"]
+    out["tracks"] = {name: positions[k, index] for k, name in enumerate(names)}
+    out["final_orientations"] = {name: world["orientations"][k, index[-1]] for k, name in enumerate(names)}
+    out["engine_joint_broken"] = world["joint_broken"]
     return out
+
+
+def simulate_world(scene_json):
+    """One world of the scene with perturbation off, simulated to the end of the frame range."""
+    from many_worlds import _native
+    native_scene = _native.Scene.from_json(scene_json)
+    params = _native.SimulationParameters()
+    params.perturb = False
+    params.stop_at_rest = False
+    world = _native.sample(native_scene, params, 0, 0, 1, threads=1)[0]
+    checkpoints = world.checkpoints
+    broken = checkpoints[-1]["joint_broken"] if checkpoints else []
+    return {"status": world.status, "reject_reason": world.reject_reason, "record_hz": world.record_hz,
+            "positions": world.positions, "orientations": world.orientations,
+            "body_names": list(native_scene.body_names),
+            "joint_broken": {name: bool(b) for name, b in zip(native_scene.constraint_names, broken)}}
+
+
+def run_isolated(function, *args, timeout_s=ENGINE_TIMEOUT_S):
+    """function(*args) in a forked copy of this process, so that an abort inside ODE fails the
+    scene (status "crashed") instead of ending Blender and the whole suite."""
+    read_end, write_end = os.pipe()
+    pid = os.fork()
+    if pid == 0:
+        code = 0
+        try:
+            os.close(read_end)
+            with os.fdopen(write_end, "wb") as pipe:
+                pickle.dump(function(*args), pipe)
+        except BaseException:
+            traceback.print_exc()
+            code = 1
+        finally:
+            os._exit(code)
+    os.close(write_end)
+    chunks, deadline = [], time.monotonic() + timeout_s
+    with os.fdopen(read_end, "rb") as pipe:
+        while True:
+            ready, _, _ = select.select([pipe], [], [], max(0.0, deadline - time.monotonic()))
+            if not ready:
+                os.kill(pid, signal.SIGKILL)
+                os.waitpid(pid, 0)
+                return {"status": "hung", "reject_reason": f"no result after {timeout_s} s"}
+            chunk = os.read(pipe.fileno(), 1 << 20)
+            if not chunk:
+                break
+            chunks.append(chunk)
+    _, status = os.waitpid(pid, 0)
+    if os.WIFSIGNALED(status):
+        return {"status": "crashed", "reject_reason": f"the process died of signal {os.WTERMSIG(status)} "
+                                                      f"({signal.Signals(os.WTERMSIG(status)).name})"}
+    if os.WEXITSTATUS(status) != 0 or not chunks:
+        return {"status": "failed",
+                "reject_reason": f"the simulation raised an exception (exit {os.WEXITSTATUS(status)})"}
+    return pickle.loads(b"".join(chunks))
 
 
 # --- outcomes -------------------------------------------------------------------------------
@@ -135,6 +196,18 @@ def body_outcome(track, fps):
             "final_position_m": [round(float(c), 4) for c in track[-1]]}
 
 
+def tilt_deg(q):
+    """Angle between the body's local Z axis and world Z, degrees (0: as upright as it started
+    for bodies modelled upright)."""
+    w, x, y, z = q
+    return float(np.degrees(np.arccos(np.clip(1 - 2 * (x * x + y * y), -1, 1))))
+
+
+def rotation_apart_deg(q1, q2):
+    """The angle between two unit quaternions' rotations, degrees."""
+    return float(np.degrees(2 * np.arccos(np.clip(abs(np.dot(q1, q2)), -1, 1))))
+
+
 def constraint_broken(tracks, pair):
     """(broken, change of the distance between the two bodies' origins in metres)."""
     a, b = (tracks.get(name) for name in pair)
@@ -145,11 +218,13 @@ def constraint_broken(tracks, pair):
 
 
 def criterion(name, divergent, numbers, rule):
+    """One criterion's result: it holds when no body or constraint diverges."""
     return {"criterion": name, "rule": rule, "ok": not divergent, "divergent": sorted(divergent), "numbers": numbers}
 
 
 def compare_outcomes(active, bullet, ours, constraints, fps):
-    """The criteria of SPEC §12 for the ACTIVE bodies `active` and the breakable `constraints`."""
+    """The criteria of SPEC §12 for the ACTIVE bodies `active` and the breakable `constraints`.
+    Returns (criteria, Bullet's body outcomes, ours)."""
     b = {name: body_outcome(bullet[name], fps) for name in active}
     o = {name: body_outcome(ours[name], fps) for name in active if name in ours}
     missing = sorted(set(active) - set(o))
@@ -172,8 +247,9 @@ def compare_outcomes(active, bullet, ours, constraints, fps):
                              "every body at rest in Bullet is at rest in ours"))
     heights = {n: {"bullet_z_m": round(b[n]["final_z_m"], 4), "ours_z_m": round(o[n]["final_z_m"], 4),
                    "dz_m": round(o[n]["final_z_m"] - b[n]["final_z_m"], 4)} for n in sorted(rest_b & rest_o)}
-    results.append(criterion("resting_heights", {n for n, h in heights.items() if abs(h["dz_m"]) > HEIGHT_TOLERANCE_M},
-                             heights, f"resting heights within {HEIGHT_TOLERANCE_M} m of Bullet's"))
+    off = {n for n, h in heights.items() if abs(h["dz_m"]) > HEIGHT_TOLERANCE_M}
+    results.append(criterion("resting_heights", off, heights,
+                             f"resting heights within {HEIGHT_TOLERANCE_M} m of Bullet's"))
     fastest_b = max(present, key=lambda n: b[n]["max_speed_mps"], default=None)
     top_b = b[fastest_b]["max_speed_mps"] if fastest_b else 0.0
     limit = SPEED_RATIO * top_b
@@ -196,14 +272,39 @@ def compare_outcomes(active, bullet, ours, constraints, fps):
                                  {c for c, v in breaks.items() if v["bullet_broken"] != v["ours_broken"]}, breaks,
                                  f"the same breakable constraints end broken (bodies' distance changed > "
                                  f"{BROKEN_DISTANCE_M} m)"))
-    bodies = {n: {"bullet": b[n], "ours": o.get(n)} for n in active}
-    return results, bodies
+    return results, b, o
 
 
-def covering_warnings(item, warnings, constraints_of):
+def covering_warnings(item, warnings, links):
     """The export warnings that name `item` (a body or constraint) or a constraint/body linked to it."""
-    linked = {item} | set(constraints_of.get(item, ()))
+    linked = {item} | set(links.get(item, ()))
     return [w for w in warnings if w.split(":", 1)[0] in linked]
+
+
+def linked_objects(scene):
+    """{object name: names linked to it}: a constraint's two bodies, and a body's constraints."""
+    links = {}
+    rbw = scene.rigidbody_world
+    for ob in (rbw.constraints.objects if rbw.constraints else ()):
+        rbc = ob.rigid_body_constraint
+        ends = [o.name for o in (rbc.object1, rbc.object2) if o is not None] if rbc else []
+        links.setdefault(ob.name, set()).update(ends)
+        for end in ends:
+            links.setdefault(end, set()).add(ob.name)
+    return links
+
+
+def body_details(active, bullet, bullet_final, engine, b, o):
+    """Per body: Bullet's outcome and ours, final tilts, and how far apart the two end."""
+    bodies = {}
+    for n in active:
+        bodies[n] = {"bullet": dict(b[n], final_tilt_deg=round(tilt_deg(bullet_final[n]), 1)), "ours": None}
+        if n in o:
+            q = engine["final_orientations"][n]
+            bodies[n]["ours"] = dict(o[n], final_tilt_deg=round(tilt_deg(q), 1))
+            bodies[n]["final_apart_m"] = round(float(np.linalg.norm(bullet[n][-1] - engine["tracks"][n][-1])), 4)
+            bodies[n]["final_rotation_apart_deg"] = round(rotation_apart_deg(bullet_final[n], q), 1)
+    return bodies
 
 
 def run_scene(name):
@@ -216,37 +317,32 @@ def run_scene(name):
     build_s = time.perf_counter() - start
     scene = bpy.context.scene
     fps = scene.render.fps / scene.render.fps_base
-    objects = rigid_body_objects(scene)
-    active = [ob.name for ob in objects if ob.rigid_body.type == "ACTIVE"]
+    active = [ob.name for ob in rigid_body_objects(scene) if ob.rigid_body.type == "ACTIVE"]
     constraints = breakable_constraints(scene)
-    # Which constraints and bodies are linked, both ways, for warnings naming one of them.
-    constraints_of = {}
-    for ob in (scene.rigidbody_world.constraints.objects if scene.rigidbody_world.constraints else ()):
-        rbc = ob.rigid_body_constraint
-        ends = [o.name for o in (rbc.object1, rbc.object2) if o is not None] if rbc else []
-        constraints_of.setdefault(ob.name, set()).update(ends)
-        for end in ends:
-            constraints_of.setdefault(end, set()).add(ob.name)
-    bullet, blender_s = simulate_in_blender(scene)
+    links = linked_objects(scene)
+    bullet, bullet_final, blender_s = simulate_in_blender(scene)
     engine = simulate_in_engine(scene)
-    report = {"scene": name, "what": what, "bodies_simulated": len(active), "frames": scene.frame_end - scene.frame_start + 1,
-              "fps": fps, "warnings": engine["warnings"], "validation_errors": engine["validation_errors"],
+    report = {"scene": name, "what": what, "bodies_simulated": len(active),
+              "frames": scene.frame_end - scene.frame_start + 1, "fps": fps,
+              "warnings": engine["warnings"], "validation_errors": engine["validation_errors"],
               "engine_status": engine["status"], "reject_reason": engine["reject_reason"],
               "timing_s": {"build": round(build_s, 3), "blender": round(blender_s, 3),
                            "export": round(engine["export_s"], 3), "engine": round(engine["engine_s"], 3)}}
+    b = {n: body_outcome(bullet[n], fps) for n in active}
     if engine["tracks"] is None:
-        report.update(criteria=[], bodies={}, verdict=FAIL,
-                      failed=["not simulated: " + ("; ".join(engine["validation_errors"]) or
-                                                   f"world {engine['status']} {engine['reject_reason']}")])
+        reason = "; ".join(engine["validation_errors"]) or f"world {engine['status']}: {engine['reject_reason']}"
+        report.update(criteria=[], bodies=body_details(active, bullet, bullet_final, engine, b, {}), verdict=FAIL,
+                      failed=[f"not simulated: {reason}"], covered=[])
         return report
-    criteria, bodies = compare_outcomes(active, bullet, engine["tracks"], constraints, fps)
+    criteria, b, o = compare_outcomes(active, bullet, engine["tracks"], constraints, fps)
     for c in criteria:
-        c["covered_by"] = {item: covering_warnings(item, engine["warnings"], constraints_of) for item in c["divergent"]}
+        c["covered_by"] = {item: covering_warnings(item, engine["warnings"], links) for item in c["divergent"]}
         c["covered"] = not c["ok"] and all(c["covered_by"].values())
     if engine["engine_joint_broken"]:
         report["engine_joint_broken_last_checkpoint"] = {k: v for k, v in engine["engine_joint_broken"].items()
                                                          if k in constraints}
-    report["criteria"], report["bodies"] = criteria, bodies
+    report["criteria"] = criteria
+    report["bodies"] = body_details(active, bullet, bullet_final, engine, b, o)
     failed = [c for c in criteria if not c["ok"]]
     report["failed"] = [c["criterion"] for c in failed if not c["covered"]]
     report["covered"] = [c["criterion"] for c in failed if c["covered"]]

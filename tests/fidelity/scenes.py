@@ -79,6 +79,14 @@ def key_throw(ob, velocity, release_frame, start_frame=1):
     ob.location = start
 
 
+def lock(rbc, kind, axes):
+    """Limits of a constraint's `kind` ("lin" or "ang") axes checked and set to 0..0 (locked)."""
+    for axis in axes:
+        setattr(rbc, f"use_limit_{kind}_{axis}", True)
+        setattr(rbc, f"limit_{kind}_{axis}_lower", 0.0)
+        setattr(rbc, f"limit_{kind}_{axis}_upper", 0.0)
+
+
 def frames(end, start=1):
     """Output frame range and Rigid Body World > Cache range, as both must be set by hand."""
     scene = bpy.context.scene
@@ -109,7 +117,8 @@ def shapes_on_mesh_plane():
     ball = add_mesh("uv_sphere", "Ball", radius=0.25, location=(-2, 0, 1.0))
     drum = add_mesh("cylinder", "Drum", radius=0.25, depth=0.5, location=(-1, 0, 1.0))
     cone = add_mesh("cone", "Cone", radius1=0.3, depth=0.5, location=(0, 0, 1.0))
-    pill = add_mesh("cylinder", "Pill", radius=0.15, depth=0.6, location=(1, 0, 1.0), rotation=(math.radians(90), 0, 0))
+    pill = add_mesh("cylinder", "Pill", radius=0.15, depth=0.6, location=(1, 0, 1.0),
+                    rotation=(math.radians(90), 0, 0))
     rock = add_mesh("ico_sphere", "Rock", radius=0.25, subdivisions=1, location=(2, 0, 1.0))
     monkey = add_mesh("monkey", "Suzanne", size=0.5, location=(3, 0, 1.0))
     add_rigid([ball], shape="SPHERE")
@@ -157,7 +166,6 @@ def ramp_friction():
                     scale=(2.0, 1.5, 0.1))
     add_rigid([ramp], "PASSIVE", "BOX")
     tilt = math.radians(25)
-    on_ramp = []
     for name, y, friction in (("Slippery", -0.4, 0.1), ("Grippy", 0.4, 1.0)):
         # On the ramp's top face, upslope.
         along, up = -0.5, 0.05 + 0.15 + 0.01
@@ -166,7 +174,6 @@ def ramp_friction():
         box = add_mesh("cube", name, size=0.3, location=(x, y, z), rotation=(0, tilt, 0))
         add_rigid([box], shape="BOX")
         box.rigid_body.friction = friction
-        on_ramp.append(box)
     frames(72)
 
 
@@ -195,10 +202,12 @@ def thrown_with_damping():
 
 
 def start_deactivated():
-    """Four boxes left floating with Start Deactivated (and Enable Deactivation); a ball thrown by
-    keyed Animated wakes the one it hits. A fifth box without deactivation falls at once."""
+    """Four boxes in a row left floating with Start Deactivated (and Enable Deactivation); a ball
+    thrown by keyed Animated wakes the first and they knock each other down; a fifth sleeper out
+    of reach stays in the air. A box without deactivation falls at once."""
     ground("BOX")
     sleepers = [add_mesh("cube", f"Sleeper{k}", size=0.3, location=(0.6 * k, 0, 1.2)) for k in range(4)]
+    sleepers.append(add_mesh("cube", "SleeperFar", size=0.3, location=(0, -1.5, 1.2)))
     add_rigid(sleepers[:1])
     sleepers[0].rigid_body.use_deactivation = True
     sleepers[0].rigid_body.use_start_deactivated = True
@@ -258,8 +267,7 @@ def connect_each_type():
             rbc.use_limit_lin_x = True
             rbc.limit_lin_x_lower, rbc.limit_lin_x_upper = 0.0, 0.6
         if kind in {"GENERIC", "GENERIC_SPRING"}:
-            for axis in "xyz":
-                setattr(rbc, f"use_limit_lin_{axis}", True)
+            lock(rbc, "lin", "xyz")
         if kind == "GENERIC":
             for axis in "xyz":
                 setattr(rbc, f"use_limit_ang_{axis}", True)
@@ -287,17 +295,15 @@ def springs():
     (hang,) = connect([beam, bob], beam, "GENERIC_SPRING", pivot="ACTIVE")
     hang.name = "Hang"
     rbc = hang.rigid_body_constraint
-    for axis in "xy":
-        setattr(rbc, f"use_limit_lin_{axis}", True)
-    for axis in "xyz":
-        setattr(rbc, f"use_limit_ang_{axis}", True)
+    lock(rbc, "lin", "xy")
+    lock(rbc, "ang", "xyz")
     rbc.use_spring_z = True
     rbc.spring_stiffness_z, rbc.spring_damping_z = 60.0, 0.5
     (lid_joint,) = connect([hinge_post, lid], hinge_post, "GENERIC_SPRING", pivot="ACTIVE")
     lid_joint.name = "LidSpring"
     rbc = lid_joint.rigid_body_constraint
+    lock(rbc, "lin", "xyz")
     for axis in "xyz":
-        setattr(rbc, f"use_limit_lin_{axis}", True)
         setattr(rbc, f"use_spring_ang_{axis}", True)
         setattr(rbc, f"spring_stiffness_ang_{axis}", 25.0)
         setattr(rbc, f"spring_damping_ang_{axis}", 0.5)
@@ -310,7 +316,7 @@ def motor_paddle():
     ground("BOX")
     axle = add_mesh("cube", "Axle", size=0.2, location=(0, 0, 0.75))
     paddle = add_mesh("cube", "Paddle", size=1.0, location=(0, 0, 1.2), scale=(0.06, 0.3, 0.4))
-    box = add_mesh("cube", "Box", size=0.3, location=(-0.35, 0, 0.16))
+    box = add_mesh("cube", "Box", size=0.3, location=(0.35, 0, 0.16))
     add_rigid([axle], "PASSIVE", "BOX")
     add_rigid([paddle, box], shape="BOX")
     (hinge,) = connect([axle, paddle], axle, "HINGE", pivot="ACTIVE")
@@ -326,17 +332,17 @@ def motor_paddle():
 
 
 def breakable_shelves():
-    """Two shelves FIXED (breakable) to passive wall posts; a 20 kg box dropped on each: the weak
+    """Two shelves FIXED (breakable) to passive wall posts; a 10 kg box dropped on each: the weak
     joint (threshold 2) breaks and the shelf falls, the strong one (threshold 1000) holds."""
     ground("BOX")
     for k, (name, threshold) in enumerate((("Weak", 2.0), ("Strong", 1000.0))):
         y = 2.0 * k
         post = add_mesh("cube", f"Wall{name}", size=1.0, location=(0, y, 1.0), scale=(0.1, 0.5, 1.0))
-        shelf = add_mesh("cube", f"Shelf{name}", size=1.0, location=(0.45, y, 1.2), scale=(0.8, 0.4, 0.04))
+        shelf = add_mesh("cube", f"Shelf{name}", size=1.0, location=(0.45, y, 1.2), scale=(0.8, 0.4, 0.06))
         load = add_mesh("cube", f"Load{name}", size=0.3, location=(0.6, y, 2.0))
         add_rigid([post], "PASSIVE", "BOX")
         add_rigid([shelf, load], shape="BOX")
-        load.rigid_body.mass = 20.0
+        load.rigid_body.mass = 10.0
         (joint,) = connect([post, shelf], post, "FIXED")
         joint.name = f"Bracket{name}"
         joint.rigid_body_constraint.use_breaking = True
@@ -344,23 +350,24 @@ def breakable_shelves():
     frames(60)
 
 
-def fracture_wall():
+def fracture_wall(lift=0.0):
     """A wall cut by Cell Fracture (points from a child grid) into 15 convex pieces, masses by
-    Calculate Mass (Brick), each piece joined to its neighbours by Connect FIXED (breakable,
-    threshold 5), standing on a passive plane; an iron ball (Calculate Mass) thrown by keyed
-    Animated smashes it."""
+    Calculate Mass (Brick (Common)), each piece joined to its neighbours by Connect FIXED (breakable,
+    threshold 20), standing on a passive plane; a timber ball (Calculate Mass) thrown by keyed
+    Animated knocks a hole in it."""
     addon_utils.enable("object_fracture_cell", default_set=False)
-    ground("BOX")
-    wall = add_mesh("cube", "Wall", size=1.0, location=(0, 0, 0.6), scale=(2.0, 0.2, 1.2))
+    ground("BOX", size=20)
+    z = 0.6 + lift
+    wall = add_mesh("cube", "Wall", size=1.0, location=(0, 0, z), scale=(2.0, 0.2, 1.2))
     grid = add_mesh("grid", "Cuts", x_subdivisions=4, y_subdivisions=2, size=1.0,
-                    location=(0, 0, 0.6), rotation=(math.radians(90), 0, 0), scale=(1.6, 0.9, 1.0))
+                    location=(0, 0, z), rotation=(math.radians(90), 0, 0), scale=(1.6, 0.9, 1.0))
     grid.parent = wall
     grid.matrix_parent_inverse = wall.matrix_world.inverted()
     select([wall])
     random.seed(7)  # Cell Fracture jitters cell points with Python's random
     bpy.ops.object.add_fracture_cell_objects(source={"VERT_CHILD"}, source_limit=0, use_debug_redraw=False,
                                              use_recenter=True, use_remove_original=True)
-    pieces = sorted((ob for ob in bpy.context.selected_objects), key=lambda ob: ob.name)
+    pieces = sorted(bpy.context.selected_objects, key=lambda ob: ob.name)
     select([grid])
     bpy.ops.object.delete()
     add_rigid(pieces)
@@ -373,12 +380,17 @@ def fracture_wall():
             joints += connect([piece, *near], piece, "FIXED")
     for joint in joints:
         joint.rigid_body_constraint.use_breaking = True
-        joint.rigid_body_constraint.breaking_threshold = 5.0
+        joint.rigid_body_constraint.breaking_threshold = 20.0
     ball = add_mesh("uv_sphere", "Ball", radius=0.25, location=(0.2, -3.0, 0.9))
     add_rigid([ball], shape="SPHERE")
-    bpy.ops.rigidbody.mass_calculate(material="Iron")
+    bpy.ops.rigidbody.mass_calculate(material="Timber")
     key_throw(ball, (0.0, 8.0, 0.0), release_frame=5)
     frames(72)
+
+
+def fracture_wall_lifted():
+    """The same wall modelled 5 mm above the plane (it settles onto it in the first frames)."""
+    fracture_wall(lift=0.005)
 
 
 def _touching(a, b, gap):
@@ -396,15 +408,16 @@ SCENES = {
     "drop_on_box_plane": (drop_on_box_plane, "cubes (hull, BOX, tilted) drop on a BOX plane and rest"),
     "shapes_on_mesh_plane": (shapes_on_mesh_plane, "sphere, cylinder, cone, capsule, hulls drop on a MESH plane"),
     "drop_on_default_plane": (drop_on_default_plane, "cubes drop on a plane with its default CONVEX_HULL shape"),
-    "stacks_copy_settings": (stacks_copy_settings, "a 5-box tower (Copy from Active, Calculate Mass) and a pyramid stand"),
+    "stacks_copy_settings": (stacks_copy_settings, "a tower (Copy from Active, Calculate Mass) and a pyramid stand"),
     "ramp_friction": (ramp_friction, "friction 0.1 slides down a 25° ramp, friction 1.0 stays"),
     "bouncy_balls": (bouncy_balls, "balls of bounciness 0, 0.5, 0.9 bounce on a bouncy plane"),
     "thrown_with_damping": (thrown_with_damping, "keyed-Animated throws with damping 0, 0.5, 0.9 land and rest"),
-    "start_deactivated": (start_deactivated, "Start Deactivated boxes float until a thrown ball hits one"),
+    "start_deactivated": (start_deactivated, "Start Deactivated boxes float until knocked; one out of reach stays up"),
     "collision_collections": (collision_collections, "boxes in other collision collections pass through"),
     "connect_each_type": (connect_each_type, "Connect with each constraint type hangs a bar from a post"),
     "springs": (springs, "GENERIC_SPRING: a box bobs on a linear spring, a lid sags on angular springs"),
-    "motor_paddle": (motor_paddle, "a HINGE + MOTOR paddle sweeps a box off a pedestal"),
+    "motor_paddle": (motor_paddle, "a HINGE + MOTOR paddle comes round and knocks a box away"),
     "breakable_shelves": (breakable_shelves, "a dropped load breaks a weak FIXED shelf, not a strong one"),
-    "fracture_wall": (fracture_wall, "a thrown ball smashes a Cell Fracture wall joined by breakable FIXED"),
+    "fracture_wall": (fracture_wall, "a thrown ball knocks a hole in a Cell Fracture wall (breakable FIXED)"),
+    "fracture_wall_lifted": (fracture_wall_lifted, "the same wall modelled 5 mm above the plane"),
 }

@@ -151,9 +151,9 @@ def test_info_reports_worlds_rejections_and_sizes(engine, tmp_path):
     result = run_engine(engine, "info", str(out), "--json")
     assert result.returncode == 0
     info = json.loads(result.stdout)
-    assert info.worlds == 3 and info.rejected == 0 and info.bodies == 6
-    assert 0 < info.motion_bytes_per_body_frame < 28
-    assert len(info.scene_hash) == 16
+    assert info["worlds"] == 3 and info["rejected"] == 0 and info["bodies"] == 6
+    assert 0 < info["motion_bytes_per_body_frame"] < 28
+    assert len(info["scene_hash"]) == 16
 
 
 @pytest.mark.parametrize("args,phrase", [

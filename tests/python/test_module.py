@@ -1,5 +1,6 @@
 """The native module through its Python API: scenes, sampling, recorded arrays, errors."""
 import json
+import os
 import threading
 
 import numpy as np
@@ -122,3 +123,23 @@ def test_bad_parameters_are_errors_not_crashes(native, scene_text):
         native.sample(scene, "not parameters", 1, 0, 1)
     with pytest.raises(TypeError):
         native.sample(scene, native.SimulationParameters(), -1, 0, 1)
+
+
+def test_the_type_stubs_declare_every_public_name_of_the_module(native):
+    """addon/many_worlds/_native.pyi is what editors and readers see: it must not fall behind."""
+    import ast
+    stub_path = os.path.join(os.path.dirname(native.__file__), "_native.pyi")
+    tree = ast.parse(open(stub_path).read())
+    declared = {}
+    for node in tree.body:
+        if isinstance(node, ast.ClassDef):
+            declared[node.name] = {n.target.id if isinstance(n, ast.AnnAssign) else n.name
+                                   for n in node.body if isinstance(n, (ast.AnnAssign, ast.FunctionDef))}
+        elif isinstance(node, ast.FunctionDef):
+            declared[node.name] = set()
+    for name in (n for n in dir(native) if not n.startswith("_")):
+        assert name in declared, f"_native.{name} is missing from _native.pyi"
+        value = getattr(native, name)
+        if isinstance(value, type) and not issubclass(value, Exception):
+            members = {m for m in dir(value) if not m.startswith("_")}
+            assert members <= declared[name], f"_native.{name}: {sorted(members - declared[name])} missing from the stub"

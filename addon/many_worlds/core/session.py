@@ -8,7 +8,7 @@ only objects that cannot be saved, and is rebuilt from those properties on load.
 class Session:
     def __init__(self):
         self.view = None        # LibraryView or None
-        self.query = None       # core.query.LibraryQuery of `view` (its path index), or None
+        self.query = None       # core.library_query.LibraryQuery of `view` (its path index), or None
         self.engine = None      # EngineRun or None
         self.status = ""        # one line for the panel and status bar
         self.last_error = ""    # engine failure text, shown as a report

@@ -3,7 +3,7 @@ import os
 
 import bpy
 
-from .. import preview, props, queries
+from .. import preview, props, scene_boxes
 from ..core.library_view import LibraryView
 from ..core.session import SESSION
 
@@ -47,7 +47,7 @@ def open_library(scene, path=None):
     SESSION.view = LibraryView(_native, path)
     sync_world_list(scene)
     # Index the paths and apply the scene's saved boxes before anything is drawn.
-    queries.refresh(scene)
+    scene_boxes.refresh(scene)
     settings = scene.mwb
     if settings.selected_world in SESSION.view.world_indices:
         # Set the index without its update callback re-entering the preview.

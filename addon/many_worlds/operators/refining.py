@@ -9,14 +9,14 @@ land, Esc / Cancel keeps the finished ones, and only one engine run exists at a 
 import bpy
 from bpy.props import FloatVectorProperty, IntProperty, IntVectorProperty
 
-from .. import queries
+from .. import scene_boxes
 from ..core import engine as engine_process
 from ..core import paths
-from ..core.query import normalized_rect
+from ..core.library_query import normalized_rect
 from ..core.session import SESSION
 from ..draw import boxes as box_overlay
 from . import sampling
-from .querying import BoxDrag, camera_of
+from .boxes import BoxDrag, camera_of
 
 
 def selected_body_names(context, view, world):
@@ -41,8 +41,8 @@ def refine_problem(context, world):
 
 def first_time_inside(view, world, body_names, view_matrix, projection_matrix, size, rect):
     """Seconds at which any of the bodies' paths in `world` first enters the box; -1 if never."""
-    spec = queries.drag_spec(view, view_matrix, projection_matrix, size, rect, False, body_names)
-    lq = queries.library_query()
+    spec = scene_boxes.drag_spec(view, view_matrix, projection_matrix, size, rect, False, body_names)
+    lq = scene_boxes.library_query()
     if spec is None or lq is None:
         return -1.0
     lq.sync()
@@ -54,7 +54,7 @@ def start_refining(scene, world, body_names, time_s):
     settings = scene.mwb
     view = SESSION.view
     argv = engine_process.refine_command(paths.engine_path(), view.path, world,
-                                         view.present_bodies(world, queries.body_indices(body_names, view)), time_s,
+                                         view.present_bodies(world, scene_boxes.body_indices(body_names, view)), time_s,
                                          settings.refine_count, settings.threads)
     sampling.start_run(scene, argv, view.path, "Refining",
                        f"Refining {', '.join(body_names)} in world {world} from {time_s:.2f} s "

@@ -10,7 +10,7 @@ import sys
 
 import bpy
 
-from .. import export, preview, props, queries, runs
+from .. import export, preview, props, scene_boxes, runs
 from ..core import engine as engine_process
 from ..core.session import SESSION
 from . import browsing
@@ -138,7 +138,7 @@ def _stream_worlds(scene):
     if added:
         browsing.sync_world_list(scene)
         # New worlds arrive matching; the boxes decide (the index adds only the new paths).
-        queries.refresh(scene)
+        scene_boxes.refresh(scene)
     return added
 
 

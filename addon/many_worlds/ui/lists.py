@@ -1,7 +1,7 @@
 """Lists: stored worlds, query boxes, and the worlds ranked by a metric."""
 import bpy
 
-from .. import queries
+from .. import scene_boxes
 from ..core import family as core_family
 from ..core.session import SESSION
 from ..draw.boxes import view_matches
@@ -84,7 +84,7 @@ class MWB_UL_ranking(bpy.types.UIList):
     the metric is Constraints Satisfied). Clicking a row previews that world."""
 
     def filter_items(self, context, data, propname):
-        ranking = queries.RANKING.get(context)
+        ranking = scene_boxes.RANKING.get(context)
         items = getattr(data, propname)
         hidden = len(ranking.position)
         flags, order = [], []
@@ -97,15 +97,15 @@ class MWB_UL_ranking(bpy.types.UIList):
         return flags, order
 
     def draw_item(self, context, layout, data, item, icon, active_data, active_propname, index=0, flt_flag=0):
-        ranking = queries.RANKING.get(context)
+        ranking = scene_boxes.RANKING.get(context)
         row_index = ranking.position.get(item.world_index)
         metric = context.scene.mwb.rank_metric
-        lq = queries.library_query()
+        lq = scene_boxes.library_query()
         box_count = lq.result.box_count if lq is not None and lq.result is not None else 0
         row = layout.row(align=True)
         row.label(text=f"{row_index + 1 if row_index is not None else '-'}.  World {item.world_index}")
         if row_index is not None:
-            row.label(text=queries.format_metric(metric, ranking.values[row_index], box_count))
+            row.label(text=scene_boxes.format_metric(metric, ranking.values[row_index], box_count))
 
 
 class MWB_UL_libraries(bpy.types.UIList):

@@ -4,8 +4,8 @@ import textwrap
 
 import bpy
 
-from .. import props, queries
-from ..core import query
+from .. import props, scene_boxes
+from ..core import library_query
 from ..operators import sampling
 from ..core.session import SESSION
 
@@ -144,7 +144,7 @@ class MWB_PT_query(SidebarPanel, bpy.types.Panel):
     def draw(self, context):
         layout = self.layout
         settings = context.scene.mwb
-        text = queries.match_text()
+        text = scene_boxes.match_text()
         if text:
             layout.label(text=text, icon="FILTER")
         row = layout.row(align=True)
@@ -179,7 +179,7 @@ class MWB_PT_ranking(LibraryPanel, bpy.types.Panel):
         row = layout.row(align=True)
         row.prop(settings, "rank_metric", text="")
         row.prop(settings, "rank_descending", text="", icon="SORT_DESC" if settings.rank_descending else "SORT_ASC")
-        if settings.rank_metric != query.BOXES_MET:
+        if settings.rank_metric != library_query.BOXES_MET:
             row = layout.row(align=True)
             row.prop(settings, "rank_combine", expand=True)
             row = layout.row(align=True)

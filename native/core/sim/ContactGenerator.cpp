@@ -33,7 +33,7 @@ void collect_pair(void* data, dGeomID a, dGeomID b) {
 
 }  // namespace
 
-ContactGenerator::ContactGenerator(OdeWorld& world, const BodyRoles& roles) : world_(world), roles_(roles) {}
+ContactGenerator::ContactGenerator(OdeWorld& world, const BodyActivity& activity) : world_(world), activity_(activity) {}
 
 void ContactGenerator::find_candidate_pairs() {
     candidates_.clear();
@@ -58,7 +58,7 @@ void ContactGenerator::collide_pair(const CandidatePair& pair) {
     const GeomOwner& oa = owners[pair.first_index];
     const GeomOwner& ob = owners[pair.second_index];
     if (oa.body == ob.body || oa.ghost || ob.ghost) return;
-    if (!roles_.simulated(oa.body) && !roles_.simulated(ob.body)) return;
+    if (!activity_.simulated(oa.body) && !activity_.simulated(ob.body)) return;
     if (world_.collision_disabled(oa.body, ob.body)) return;
     dContactGeom contacts[kMaxContactsPerPair];
     const int count = collide(pair.first, pair.second, oa.is_mesh || ob.is_mesh, kMaxContactsPerPair, contacts);

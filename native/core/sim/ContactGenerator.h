@@ -7,7 +7,7 @@
 
 #include <ode/ode.h>
 
-#include "sim/BodyRoles.h"
+#include "sim/BodyActivity.h"
 #include "sim/OdeWorld.h"
 
 namespace mwb {
@@ -33,7 +33,7 @@ struct DeepestContact {
 /// collide at the same time: triangle-mesh collisions take a process-wide lock.
 class ContactGenerator {
 public:
-    ContactGenerator(OdeWorld& world, const BodyRoles& roles);
+    ContactGenerator(OdeWorld& world, const BodyActivity& activity);
 
     /// Collects this step's broad-phase pairs in geom-index order and forgets the last step's contacts.
     void find_candidate_pairs();
@@ -51,7 +51,7 @@ private:
     void note_contact(int32_t body, int32_t other, const dContactGeom& contact);
 
     OdeWorld& world_;
-    const BodyRoles& roles_;
+    const BodyActivity& activity_;
     std::vector<CandidatePair> candidates_;
     std::vector<DeepestContact> deepest_;  ///< per body
 };

@@ -14,11 +14,11 @@ bool finite(const Vec3& v) { return std::isfinite(v[0]) && std::isfinite(v[1]) &
 
 }  // namespace
 
-ImpactResponse::ImpactResponse(const CompiledScene& compiled, OdeWorld& world, const BodyRoles& roles,
+ImpactResponse::ImpactResponse(const CompiledScene& compiled, OdeWorld& world, const BodyActivity& activity,
                                uint64_t perturbation_seed)
     : compiled_(compiled),
       world_(world),
-      roles_(roles),
+      activity_(activity),
       perturbation_random_(perturbation_seed),
       perturber_(compiled.parameters().alpha_linear, compiled.parameters().lobe_exponent),
       angular_perturber_(compiled.parameters().alpha_angular, compiled.parameters().lobe_exponent) {
@@ -39,7 +39,7 @@ ImpactResponse::ImpactResponse(const CompiledScene& compiled, OdeWorld& world, c
 
 void ImpactResponse::capture_velocities_before_step() {
     for (size_t i = 0; i < compiled_.bodies().size(); ++i) {
-        if (!roles_.simulated(i)) continue;
+        if (!activity_.simulated(i)) continue;
         previous_linear_[i] = from_ode(dBodyGetLinearVel(world_.bodies()[i]));
         previous_angular_[i] = from_ode(dBodyGetAngularVel(world_.bodies()[i]));
     }
@@ -47,8 +47,8 @@ void ImpactResponse::capture_velocities_before_step() {
 
 void ImpactResponse::respond_to_step(const ContactGenerator& contacts, uint64_t step, double t_after_s) {
     for (size_t i = 0; i < compiled_.bodies().size(); ++i) {
-        if (!roles_.simulated(i)) continue;
-        if (roles_.animated(i, step)) {  // driven, not simulated: no impacts, no rest
+        if (!activity_.simulated(i)) continue;
+        if (activity_.animated(i, step)) {  // driven, not simulated: no impacts, no rest
             rest_since_s_[i] = -1;
             continue;
         }
@@ -106,7 +106,7 @@ void ImpactResponse::respond(size_t i, const DeepestContact& contact, double t_a
 Vec3 ImpactResponse::point_velocity_before_step(int32_t i, const Vec3& point) const {
     dBodyID body = world_.bodies()[i];
     if (!body) return {0, 0, 0};
-    const bool stepped = roles_.simulated(i);
+    const bool stepped = activity_.simulated(i);
     const Vec3 v = stepped ? previous_linear_[i] : from_ode(dBodyGetLinearVel(body));
     const Vec3 w = stepped ? previous_angular_[i] : from_ode(dBodyGetAngularVel(body));
     return add(v, cross(w, sub(point, from_ode(dBodyGetPosition(body)))));
@@ -123,7 +123,7 @@ double ImpactResponse::approach_speed(size_t i, const DeepestContact& contact) c
 bool ImpactResponse::simulated_bodies_at_rest(double t_s) const {
     const double rest_duration_s = compiled_.parameters().rest_duration_s;
     for (size_t i = 0; i < compiled_.bodies().size(); ++i)
-        if (roles_.simulated(i) && (rest_since_s_[i] < 0 || t_s - rest_since_s_[i] < rest_duration_s)) return false;
+        if (activity_.simulated(i) && (rest_since_s_[i] < 0 || t_s - rest_since_s_[i] < rest_duration_s)) return false;
     return true;
 }
 

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "sim/BodyRoles.h"
+#include "sim/BodyActivity.h"
 #include "sim/CompiledScene.h"
 #include "sim/ContactGenerator.h"
 #include "sim/ImpactPerturber.h"
@@ -26,7 +26,7 @@ struct WorldRejected : std::runtime_error {
 class ImpactResponse {
 public:
     /// `perturbation_seed`: seed of the world's perturbation stream.
-    ImpactResponse(const CompiledScene& compiled, OdeWorld& world, const BodyRoles& roles, uint64_t perturbation_seed);
+    ImpactResponse(const CompiledScene& compiled, OdeWorld& world, const BodyActivity& activity, uint64_t perturbation_seed);
 
     /// Remembers the simulated bodies' velocities; call right before ODE steps.
     void capture_velocities_before_step();
@@ -56,7 +56,7 @@ private:
 
     const CompiledScene& compiled_;
     OdeWorld& world_;
-    const BodyRoles& roles_;
+    const BodyActivity& activity_;
     PortableRandom perturbation_random_;
     ImpactPerturber perturber_;
     ImpactPerturber angular_perturber_;

@@ -4,18 +4,18 @@
 
 namespace mwb {
 
-KinematicDriver::KinematicDriver(const CompiledScene& compiled, OdeWorld& world, const BodyRoles& roles)
-    : compiled_(compiled), world_(world), roles_(roles) {}
+KinematicDriver::KinematicDriver(const CompiledScene& compiled, OdeWorld& world, const BodyActivity& activity)
+    : compiled_(compiled), world_(world), activity_(activity) {}
 
 void KinematicDriver::drive(uint64_t step, double t_s) {
     const Scene& scene = compiled_.scene();
     const double dt_anim = 1.0 / compiled_.step_hz();
     for (size_t i = 0; i < scene.bodies.size(); ++i) {
-        if (!roles_.present(i)) continue;
+        if (!activity_.present(i)) continue;
         const CompiledBody& body = compiled_.bodies()[i];
         // At its handoff a keyed body is let go with the velocity its animation gave it last step.
-        if (step == body.handoff_step && step > 0 && roles_.simulated(i)) world_.set_kinematic(i, false);
-        if (!body.kinematic && !(roles_.animated(i, step) && roles_.simulated(i))) continue;
+        if (step == body.handoff_step && step > 0 && activity_.simulated(i)) world_.set_kinematic(i, false);
+        if (!body.kinematic && !(activity_.animated(i, step) && activity_.simulated(i))) continue;
         const Transform& rest = world_.initial_states()[i].pose;
         const Transform now = sample_animation(scene.bodies[i].animation, t_s, rest);
         const Transform next = sample_animation(scene.bodies[i].animation, t_s + dt_anim, rest);
@@ -41,7 +41,7 @@ bool KinematicDriver::animation_playing(double t_s) const {
     const Scene& scene = compiled_.scene();
     for (size_t i = 0; i < scene.bodies.size(); ++i) {
         const KinematicTrack& animation = scene.bodies[i].animation;
-        if (compiled_.bodies()[i].kinematic && roles_.present(i) && !animation.times_s.empty() &&
+        if (compiled_.bodies()[i].kinematic && activity_.present(i) && !animation.times_s.empty() &&
             t_s < animation.times_s.back())
             return true;
     }

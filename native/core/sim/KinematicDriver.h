@@ -3,7 +3,7 @@
 // ones until their handoff step, when they are let go with the velocity their animation gave them.
 #include <cstdint>
 
-#include "sim/BodyRoles.h"
+#include "sim/BodyActivity.h"
 #include "sim/CompiledScene.h"
 #include "sim/OdeWorld.h"
 
@@ -12,7 +12,7 @@ namespace mwb {
 /// One per world run; not thread-safe (a world runs on one thread).
 class KinematicDriver {
 public:
-    KinematicDriver(const CompiledScene& compiled, OdeWorld& world, const BodyRoles& roles);
+    KinematicDriver(const CompiledScene& compiled, OdeWorld& world, const BodyActivity& activity);
 
     /// Before step `step` (animation time `t_s`): lets go the keyed bodies whose handoff it is,
     /// and puts every body still following its animation on its pose at `t_s`, with the
@@ -27,7 +27,7 @@ public:
 private:
     const CompiledScene& compiled_;
     OdeWorld& world_;
-    const BodyRoles& roles_;
+    const BodyActivity& activity_;
 };
 
 }  // namespace mwb

@@ -11,11 +11,11 @@
 namespace mwb {
 
 RefinementReplay::RefinementReplay(const CompiledScene& compiled, uint64_t base_seed, OdeWorld& world,
-                                   BodyRoles& roles, ImpactResponse& impacts)
+                                   BodyActivity& activity, ImpactResponse& impacts)
     : compiled_(compiled),
       base_seed_(base_seed),
       world_(world),
-      roles_(roles),
+      activity_(activity),
       impacts_(impacts),
       activator_(compiled.bodies().size(), 0) {}
 
@@ -37,7 +37,7 @@ void RefinementReplay::begin(size_t k, uint64_t step) {
     parent_ = parents_[k];
     branch_time_s_ = compiled_.step_time_s(step);
     const size_t n = compiled_.bodies().size();
-    roles_.stop_simulating();
+    activity_.stop_simulating();
     std::fill(activator_.begin(), activator_.end(), 0);
     activated_at_s_.assign(n, std::numeric_limits<double>::infinity());
     changed_.assign(n, 0);
@@ -48,7 +48,7 @@ void RefinementReplay::begin(size_t k, uint64_t step) {
     }
     for (uint32_t body : refinement.removed) activate_joint_partners(body, false, step);
     for (size_t i = 0; i < n; ++i)
-        if (compiled_.bodies()[i].dynamic && !roles_.simulated(i)) world_.set_kinematic(i, true);
+        if (compiled_.bodies()[i].dynamic && !activity_.simulated(i)) world_.set_kinematic(i, true);
     for (uint32_t body : ghosts_) world_.set_ghost_enabled(body, false);
     ghosts_.clear();
     std::vector<uint32_t> ghosted;
@@ -67,12 +67,12 @@ void RefinementReplay::begin(size_t k, uint64_t step) {
 
 // Starts simulating body i (and, through joints, its partners) from its replayed state.
 void RefinementReplay::activate(uint32_t i, uint64_t step) {
-    if (i >= compiled_.bodies().size() || roles_.simulated(i) || !compiled_.bodies()[i].dynamic || !roles_.present(i))
+    if (i >= compiled_.bodies().size() || activity_.simulated(i) || !compiled_.bodies()[i].dynamic || !activity_.present(i))
         return;
-    roles_.set_simulated(i);
+    activity_.set_simulated(i);
     changed_[i] = 1;
     activated_at_s_[i] = compiled_.step_time_s(step);
-    if (!roles_.animated(i, step)) world_.set_kinematic(i, false);
+    if (!activity_.animated(i, step)) world_.set_kinematic(i, false);
     impacts_.restart_body(i);
     activate_joint_partners(i, true, step);
 }
@@ -102,10 +102,10 @@ void RefinementReplay::activate_touched_bodies(const ContactGenerator& contacts,
             const GeomOwner& oa = owners[pair.first_index];
             const GeomOwner& ob = owners[pair.second_index];
             if (oa.body == ob.body || (oa.ghost && ob.ghost)) continue;
-            const bool active_a = oa.ghost || roles_.simulated(oa.body) || activator_[oa.body];
-            const bool active_b = ob.ghost || roles_.simulated(ob.body) || activator_[ob.body];
-            const bool replayed_a = !oa.ghost && roles_.replayed(oa.body);
-            const bool replayed_b = !ob.ghost && roles_.replayed(ob.body);
+            const bool active_a = oa.ghost || activity_.simulated(oa.body) || activator_[oa.body];
+            const bool active_b = ob.ghost || activity_.simulated(ob.body) || activator_[ob.body];
+            const bool replayed_a = !oa.ghost && activity_.replayed(oa.body);
+            const bool replayed_b = !ob.ghost && activity_.replayed(ob.body);
             if (!((active_a && replayed_b) || (active_b && replayed_a))) continue;
             if (world_.collision_disabled(oa.body, ob.body)) continue;
             if (!contacts.touching(pair)) continue;
@@ -141,7 +141,7 @@ BodyState RefinementReplay::parent_state(size_t i, double t_s) const {
 
 void RefinementReplay::drive_replayed_bodies(double t_s) {
     for (size_t i = 0; i < compiled_.bodies().size(); ++i)
-        if (roles_.replayed(i)) world_.set_body_state(i, parent_state(i, t_s));
+        if (activity_.replayed(i)) world_.set_body_state(i, parent_state(i, t_s));
     for (uint32_t body : ghosts_) world_.set_ghost_state(body, parent_state(body, t_s));
 }
 
@@ -181,7 +181,7 @@ void RefinementReplay::splice_parent_frames(WorldResult& result) const {
 void RefinementReplay::splice_parent_events(WorldResult& result) const {
     std::vector<ContactEvent> events;
     for (const ContactEvent& e : parent_->contacts) {
-        if (e.body >= 0 && !roles_.present(static_cast<size_t>(e.body))) continue;
+        if (e.body >= 0 && !activity_.present(static_cast<size_t>(e.body))) continue;
         if (e.time_s <= branch_time_s_ || (e.body >= 0 && e.time_s <= activated_at_s_[static_cast<size_t>(e.body)]))
             events.push_back(e);
     }

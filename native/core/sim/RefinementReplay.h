@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "sim/BodyRoles.h"
+#include "sim/BodyActivity.h"
 #include "sim/CompiledScene.h"
 #include "sim/ContactGenerator.h"
 #include "sim/ImpactResponse.h"
@@ -19,7 +19,7 @@ namespace mwb {
 /// outlive it.
 class RefinementReplay {
 public:
-    RefinementReplay(const CompiledScene& compiled, uint64_t base_seed, OdeWorld& world, BodyRoles& roles,
+    RefinementReplay(const CompiledScene& compiled, uint64_t base_seed, OdeWorld& world, BodyActivity& activity,
                      ImpactResponse& impacts);
 
     /// Refinements to apply on the way: at steps[k].branch_step the run switches to simulating
@@ -57,7 +57,7 @@ private:
     const CompiledScene& compiled_;
     uint64_t base_seed_;
     OdeWorld& world_;
-    BodyRoles& roles_;
+    BodyActivity& activity_;
     ImpactResponse& impacts_;
     std::vector<RefineStep> steps_;
     std::vector<const WorldResult*> parents_;

@@ -7,9 +7,9 @@
 
 namespace mwb {
 
-WorldRecorder::WorldRecorder(const CompiledScene& compiled, OdeWorld& world, const BodyRoles& roles,
+WorldRecorder::WorldRecorder(const CompiledScene& compiled, OdeWorld& world, const BodyActivity& activity,
                              const ImpactResponse& impacts, const RefinementReplay& replay)
-    : compiled_(compiled), world_(world), roles_(roles), impacts_(impacts), replay_(replay) {
+    : compiled_(compiled), world_(world), activity_(activity), impacts_(impacts), replay_(replay) {
     frames_.reserve((compiled.total_steps() / compiled.steps_per_frame() + 1) * compiled.bodies().size());
 }
 
@@ -22,7 +22,7 @@ void WorldRecorder::record_frame(uint64_t step) {
     const uint32_t frame = static_cast<uint32_t>(step / compiled_.steps_per_frame());
     for (size_t i = 0; i < compiled_.bodies().size(); ++i) {
         // A replayed body records its parent's frame itself, bit for bit.
-        if (replay_.active() && roles_.replayed(i)) {
+        if (replay_.active() && activity_.replayed(i)) {
             frames_.push_back(replay_.parent_frame(i, frame));
             continue;
         }
@@ -48,7 +48,7 @@ void WorldRecorder::save_checkpoint(uint64_t step, uint64_t ode_random_state) {
     c.bodies.reserve(n);
     for (size_t i = 0; i < n; ++i) {
         c.bodies.push_back(world_.body_state(i));
-        if (roles_.simulated(i)) world_.set_body_state(i, c.bodies.back());
+        if (activity_.simulated(i)) world_.set_body_state(i, c.bodies.back());
     }
     for (const JointGroup& group : world_.joint_groups()) c.joint_broken.push_back(group.broken ? 1 : 0);
     c.ode_random_state = ode_random_state;

@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "sim/BodyRoles.h"
+#include "sim/BodyActivity.h"
 #include "sim/CompiledScene.h"
 #include "sim/ImpactResponse.h"
 #include "sim/OdeWorld.h"
@@ -16,7 +16,7 @@ namespace mwb {
 /// One per world run; not thread-safe (a world runs on one thread).
 class WorldRecorder {
 public:
-    WorldRecorder(const CompiledScene& compiled, OdeWorld& world, const BodyRoles& roles, const ImpactResponse& impacts,
+    WorldRecorder(const CompiledScene& compiled, OdeWorld& world, const BodyActivity& activity, const ImpactResponse& impacts,
                   const RefinementReplay& replay);
 
     /// The run resumes at `checkpoint` (which must outlive the recorder): recording starts at its
@@ -33,7 +33,7 @@ public:
 private:
     const CompiledScene& compiled_;
     OdeWorld& world_;
-    const BodyRoles& roles_;
+    const BodyActivity& activity_;
     const ImpactResponse& impacts_;
     const RefinementReplay& replay_;
     const Checkpoint* restored_ = nullptr;

@@ -39,13 +39,13 @@ WorldRun::WorldRun(const CompiledScene& compiled, uint64_t base_seed, uint64_t w
     : compiled_(compiled),
       base_seed_(base_seed),
       world_(compiled, bodies.initial, bodies.present),
-      roles_(compiled, bodies.present),
-      contacts_(world_, roles_),
-      impacts_(compiled, world_, roles_,
+      activity_(compiled, bodies.present),
+      contacts_(world_, activity_),
+      impacts_(compiled, world_, activity_,
                derive_stream_seed(derive_world_seed(base_seed, world_index), kPerturbationStream)),
-      kinematics_(compiled, world_, roles_),
-      replay_(compiled, base_seed, world_, roles_, impacts_),
-      recorder_(compiled, world_, roles_, impacts_, replay_) {
+      kinematics_(compiled, world_, activity_),
+      replay_(compiled, base_seed, world_, activity_, impacts_),
+      recorder_(compiled, world_, activity_, impacts_, replay_) {
     result_.present = bodies.present;
     result_.world_index = world_index;
     result_.seed = derive_world_seed(base_seed, world_index);

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "sim/BodyInitialState.h"
-#include "sim/BodyRoles.h"
+#include "sim/BodyActivity.h"
 #include "sim/CompiledScene.h"
 #include "sim/ContactGenerator.h"
 #include "sim/ImpactResponse.h"
@@ -56,7 +56,7 @@ private:
     const CompiledScene& compiled_;
     uint64_t base_seed_;
     OdeWorld world_;
-    BodyRoles roles_;
+    BodyActivity activity_;
     ContactGenerator contacts_;
     ImpactResponse impacts_;
     KinematicDriver kinematics_;

@@ -1,13 +1,13 @@
 """Boxes and ranking settings (scene properties) turned into queries on the open library.
 
-The evaluation itself is in core.query (no bpy); this module reads the properties, resolves body
-names to the library's body indices, keeps the session's LibraryQuery in step with the open view,
-and caches the ranking the panel shows.
+The evaluation itself is in core.library_query (no bpy); this module reads the properties, resolves
+body names to the library's body indices, keeps the session's LibraryQuery in step with the open
+view, and caches the ranking the panel shows.
 """
 import bpy
 import numpy as np
 
-from .core import query as core_query
+from .core import library_query as core_query
 from .core.session import SESSION
 
 classes = ()

@@ -11,10 +11,10 @@
 namespace mwb {
 
 /// One per world run; not thread-safe (a world runs on one thread).
-class BodyRoles {
+class BodyActivity {
 public:
     /// `present`: per scene body, 1 if this world has it. Every present dynamic body starts simulated.
-    BodyRoles(const CompiledScene& compiled, std::vector<uint8_t> present)
+    BodyActivity(const CompiledScene& compiled, std::vector<uint8_t> present)
         : compiled_(compiled), present_(std::move(present)) {
         for (size_t i = 0; i < present_.size(); ++i)
             simulated_.push_back(compiled.bodies()[i].dynamic && present_[i] ? 1 : 0);

@@ -9,8 +9,8 @@ import bpy
 from bpy.props import BoolProperty, FloatVectorProperty, IntProperty, IntVectorProperty, StringProperty
 from mathutils import Matrix
 
-from .. import queries
-from ..core.query import normalized_rect
+from .. import scene_boxes
+from ..core.library_query import normalized_rect
 from ..core.session import SESSION
 from ..draw import boxes as box_overlay
 
@@ -127,7 +127,7 @@ class BoxDrag:
     def _cancel(self, context):
         self._end(context)
         context.workspace.status_text_set(None)
-        queries.refresh(context.scene)
+        scene_boxes.refresh(context.scene)
         return {"CANCELLED"}
 
 
@@ -150,7 +150,7 @@ class MWB_OT_draw_box(BoxDrag, bpy.types.Operator):
         return self.negative or event.shift
 
     def _prepare(self, context):
-        self._bodies = queries.default_body_names(context)
+        self._bodies = scene_boxes.default_body_names(context)
         if not self._bodies:
             self.report({"WARNING"}, "No rigid bodies to query")
             return False
@@ -162,20 +162,20 @@ class MWB_OT_draw_box(BoxDrag, bpy.types.Operator):
         box_overlay.OVERLAY.dragging = (region.as_pointer(), self._rect(), negative)
         spec = None
         if SESSION.view is not None:
-            spec = queries.drag_spec(SESSION.view, region.data.view_matrix, region.data.window_matrix,
+            spec = scene_boxes.drag_spec(SESSION.view, region.data.view_matrix, region.data.window_matrix,
                                      (region.width, region.height), self._rect(), negative, self._bodies)
         # The match count follows the box while it is dragged: one query per mouse move.
-        queries.refresh(context.scene, extra=spec)
+        scene_boxes.refresh(context.scene, extra=spec)
         kind = "negative" if negative else "positive"
-        return (f"{queries.match_text() or 'No library open'} | {kind} box | "
+        return (f"{scene_boxes.match_text() or 'No library open'} | {kind} box | "
                 "Shift: negative | Esc / right-click: cancel")
 
     def _released(self, context, event, rect):
         region = self._region
-        queries.store_box(context.scene, region.data.view_matrix, region.data.window_matrix,
+        scene_boxes.store_box(context.scene, region.data.view_matrix, region.data.window_matrix,
                           (region.width, region.height), rect, self._is_negative(event), self._bodies)
-        queries.refresh(context.scene)
-        self.report({"INFO"}, queries.match_text() or "Box stored; open a library to query it")
+        scene_boxes.refresh(context.scene)
+        self.report({"INFO"}, scene_boxes.match_text() or "Box stored; open a library to query it")
         return {"FINISHED"}
 
 
@@ -199,15 +199,15 @@ class MWB_OT_add_box(bpy.types.Operator):
         if camera is None:
             return {"CANCELLED"}
         view, projection, size = camera
-        names = [n.strip() for n in self.bodies.split(",") if n.strip()] or queries.default_body_names(context)
+        names = [n.strip() for n in self.bodies.split(",") if n.strip()] or scene_boxes.default_body_names(context)
         x0, y0, x1, y1 = normalized_rect(*self.rect)
         if x1 - x0 <= 0 or y1 - y0 <= 0:
             self.report({"ERROR"}, "The rectangle is empty")
             return {"CANCELLED"}
-        queries.store_box(context.scene, [view[i:i + 4] for i in range(0, 16, 4)],
+        scene_boxes.store_box(context.scene, [view[i:i + 4] for i in range(0, 16, 4)],
                           [projection[i:i + 4] for i in range(0, 16, 4)], size, (x0, y0, x1, y1),
                           self.negative, names)
-        queries.refresh(context.scene)
+        scene_boxes.refresh(context.scene)
         return {"FINISHED"}
 
 
@@ -232,7 +232,7 @@ class MWB_OT_remove_box(bpy.types.Operator):
         settings = context.scene.mwb
         settings.boxes.remove(index)
         settings.box_index = min(settings.box_index, len(settings.boxes) - 1)
-        queries.refresh(context.scene)
+        scene_boxes.refresh(context.scene)
         return {"FINISHED"}
 
 
@@ -245,7 +245,7 @@ class MWB_OT_clear_boxes(bpy.types.Operator):
     def execute(self, context):
         context.scene.mwb.boxes.clear()
         context.scene.mwb.box_index = -1
-        queries.refresh(context.scene)
+        scene_boxes.refresh(context.scene)
         return {"FINISHED"}
 
 
@@ -262,9 +262,9 @@ class MWB_OT_box_use_selected(bpy.types.Operator):
         if box is None:
             return {"CANCELLED"}
         box.bodies.clear()
-        for name in queries.default_body_names(context):
+        for name in scene_boxes.default_body_names(context):
             box.bodies.add().name = name
-        queries.refresh(context.scene)
+        scene_boxes.refresh(context.scene)
         return {"FINISHED"}
 
 
@@ -300,7 +300,7 @@ class MWB_OT_rank_use_selected(bpy.types.Operator):
     def execute(self, context):
         settings = context.scene.mwb
         settings.rank_body_names.clear()
-        for name in queries.default_body_names(context):
+        for name in scene_boxes.default_body_names(context):
             settings.rank_body_names.add().name = name
         settings.rank_bodies = "LISTED"
         return {"FINISHED"}

@@ -1,0 +1,148 @@
+"""Type stubs of the native module (pybind11 over the C++ core). Arrays are numpy; shapes are
+given as (bodies, frames, ...) where bodies is the library scene's body count. A test checks that
+every public name of the module is declared here."""
+from typing import Callable, Dict, List, Optional, Sequence, Tuple
+
+import numpy as np
+
+class SceneError(ValueError): ...
+class LibraryError(IOError): ...
+class CodecError(ValueError): ...
+class RefineError(ValueError): ...
+
+class Scene:
+    """A rigid-body scene in Blender's units (metres, kg, s, Z up)."""
+    name: str
+    body_names: List[str]
+    body_objects: List[str]  # per body: the object it stands for
+    body_roles: List[str]    # per body: 'simulated', 'animated', 'static' or 'disabled'
+    constraint_names: List[str]
+    frame_start: int
+    fps: float
+    @staticmethod
+    def from_json(text: str) -> "Scene": ...
+    @staticmethod
+    def load(path: str) -> "Scene": ...
+    def to_json(self) -> str: ...
+
+class SimulationParameters:
+    duration_s: float
+    stop_at_rest: bool
+    min_step_hz: float
+    record_hz: float
+    alpha_linear: float
+    alpha_angular: float
+    lobe_exponent: float
+    impact_linear_factor: float
+    impact_angular_factor: float
+    rest_linear_speed: float
+    rest_angular_speed: float
+    rest_duration_s: float
+    checkpoint_interval_s: float
+    max_speed_mps: float
+    max_distance_m: float
+    perturb: bool
+    def __init__(self) -> None: ...
+
+class World:
+    """One simulated world, uncompressed."""
+    world_index: int
+    seed: int
+    status: str
+    reject_reason: str
+    record_hz: float
+    step_hz: float
+    frame_count: int
+    body_count: int
+    positions: np.ndarray     # float64 (bodies, frames, 3), object origins
+    orientations: np.ndarray  # float64 (bodies, frames, 4), (w, x, y, z)
+    rest_time_s: np.ndarray   # float64 (bodies,)
+    contacts: Dict[str, np.ndarray]
+    checkpoints: List[dict]
+    impacts_perturbed: int
+    simulated_time_s: float
+    hash: int
+
+class LineageStep:
+    branch_time_s: float
+    world: int
+    bodies: List[int]
+    added: List[int]
+    removed: List[int]
+
+class WorldInfo:
+    seed: int
+    parent_world: int  # -1 for a sampled world
+    branch_time_s: float
+    record_hz: float
+    first_frame: int
+    frame_count: int
+    simulated_time_s: float
+    impacts_perturbed: int
+    checkpoint_count: int
+    root_world: int
+    lineage: List[LineageStep]
+    changed_bodies: List[bool]
+    motion_bytes: int
+
+class Library:
+    """A .mwb library file: run header, worlds (compressed in memory), rejections."""
+    path: str
+    header: dict
+    scene_json: str
+    body_count: int
+    run_last_frame: int
+    next_world_index: int
+    warnings: List[str]
+    file_bytes: int
+    world_indices: List[int]
+    rejections: List[Tuple[int, int, str]]  # (world index, seed, reason)
+    def __init__(self, path: str, polyline_hz: float = 30.0) -> None: ...
+    def poll(self) -> int: ...
+    def present(self, world: int) -> List[bool]: ...
+    def frame_count(self, world: int) -> int: ...
+    def positions(self, world: int) -> np.ndarray: ...     # float64 (bodies, frames, 3), NaN if absent
+    def orientations(self, world: int) -> np.ndarray: ...  # float64 (bodies, frames, 4), NaN if absent
+    def pose(self, world: int, body: int, frame: int) -> Tuple[Sequence[float], Sequence[float]]: ...
+    def polyline(self, world: int) -> np.ndarray: ...      # float32 (bodies, points, 3), NaN if absent
+    def polyline_stride(self, world: int) -> int: ...
+    def rest_times(self, world: int) -> List[float]: ...
+    def contacts(self, world: int) -> List[Tuple[float, int, int, float]]: ...
+    def metrics(self, world: int) -> Dict[str, List[float]]: ...
+    def world_info(self, world: int) -> WorldInfo: ...
+
+class QueryBox:
+    negative: bool
+    bodies: List[int]
+    swept: bool
+    def __init__(self, view: np.ndarray, projection: np.ndarray, viewport: Tuple[float, float],
+                 rect: Sequence[float], negative: bool = False, bodies: Sequence[int] = ...,
+                 time_window: Optional[Tuple[float, float]] = None, swept: bool = False) -> None: ...
+
+class RankingMetric:
+    name: str
+    label: str
+    unit: str  # 'rad', 's', 'm', 'hits' or 'boxes'
+    help: str
+
+class PathIndex:
+    world_count: int
+    memory_bytes: int
+    def __init__(self, body_radii_m: Sequence[float]) -> None: ...
+    def add_library(self, library: Library, threads: int = 0) -> int: ...
+    def query(self, boxes: Sequence[QueryBox], generation: int = 0, brute_force: bool = False) -> dict: ...
+    def post_generation(self, generation: int) -> None: ...
+    def rank(self, metric: str, bodies: Sequence[int], combine: str = "sum", descending: bool = False,
+             only: Optional[Sequence[int]] = None,
+             goals: Optional[Sequence[Sequence[float]]] = None) -> Tuple[np.ndarray, np.ndarray]: ...
+    def first_time_inside(self, world: int, bodies: Sequence[int], box: QueryBox) -> float: ...
+
+def validate_scene_json(text: str) -> List[str]: ...
+def sample(scene: Scene, parameters: SimulationParameters, base_seed: int, first_world: int, world_count: int,
+           threads: int = 0, on_world: Optional[Callable[[World], None]] = None) -> List[World]: ...
+def refine_stored_world(library: str, world: int, bodies: Sequence[int], branch_time_s: float, count: int,
+                        threads: int = 0, first_child: int = -1) -> Tuple[List[int], int, int]: ...
+def merge_libraries(inputs: Sequence[str], output: str) -> List[str]: ...
+def body_bounding_radii(scene: Scene) -> List[float]: ...
+def ranking_metrics() -> List[RankingMetric]: ...
+def ode_random_calls_on_this_thread() -> int: ...

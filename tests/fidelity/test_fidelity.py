@@ -1,0 +1,39 @@
+"""Fidelity corpus: every scene of scenes.py, built with Blender's own tools, must come out as the
+same kind of outcome in the engine (perturbation off) as in Blender's own simulation, or the
+export must warn about each object on which it does not (SPEC §12). Nothing here knows the
+expected outcome: both sides are simulated afresh and compared by compare.py's criteria.
+
+blender -b --factory-startup --python-exit-code 1 --python tests/blender/run.py -- tests/fidelity
+
+Each scene's JSON report goes to $MWB_FIDELITY_OUT (default build/fidelity/); report.py turns
+the reports into a Markdown table.
+"""
+import json
+import os
+
+import bpy
+import pytest
+
+import compare
+import scenes
+
+OUT = os.environ.get("MWB_FIDELITY_OUT", os.path.join(compare.ROOT, "build", "fidelity"))
+
+
+@pytest.fixture(autouse=True)
+def fresh_scene():
+    """Every test starts from an empty factory scene with the add-on registered, and unregisters it."""
+    import many_worlds
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    many_worlds.register()
+    yield bpy.context.scene
+    many_worlds.unregister()
+
+
+@pytest.mark.parametrize("name", list(scenes.SCENES))
+def test_scene_has_blenders_outcome(name):
+    report = compare.run_scene(name)
+    os.makedirs(OUT, exist_ok=True)
+    with open(os.path.join(OUT, f"{name}.json"), "w") as f:
+        json.dump(report, f, indent=1)
+    assert report["verdict"] != compare.FAIL, compare.failure_message(report)
