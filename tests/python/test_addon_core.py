@@ -1,4 +1,5 @@
-"""The add-on's Blender-free helpers: array shaping for drawing and baking, engine progress lines."""
+"""The add-on's Blender-free helpers (many_worlds.core), in plain Python: array shaping for drawing
+and baking, engine progress lines and commands, paths, lineage."""
 from types import SimpleNamespace
 
 import numpy as np
