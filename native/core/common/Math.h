@@ -47,6 +47,26 @@ inline Quat quat_from_euler_xyz(const Vec3& euler_rad) {
     return quat_multiply(qz, quat_multiply(qy, qx));
 }
 /// Angle in radians of the rotation taking a to b, in [0, pi].
+/// The rotation whose matrix has columns x, y, z (orthonormal, right-handed).
+inline Quat quat_from_axes(const Vec3& x, const Vec3& y, const Vec3& z) {
+    const double trace = x[0] + y[1] + z[2];
+    Quat q;
+    if (trace > 0) {
+        const double s = 2 * std::sqrt(1 + trace);
+        q = {s / 4, (y[2] - z[1]) / s, (z[0] - x[2]) / s, (x[1] - y[0]) / s};
+    } else if (x[0] > y[1] && x[0] > z[2]) {
+        const double s = 2 * std::sqrt(1 + x[0] - y[1] - z[2]);
+        q = {(y[2] - z[1]) / s, s / 4, (y[0] + x[1]) / s, (z[0] + x[2]) / s};
+    } else if (y[1] > z[2]) {
+        const double s = 2 * std::sqrt(1 + y[1] - x[0] - z[2]);
+        q = {(z[0] - x[2]) / s, (y[0] + x[1]) / s, s / 4, (z[1] + y[2]) / s};
+    } else {
+        const double s = 2 * std::sqrt(1 + z[2] - x[0] - y[1]);
+        q = {(x[1] - y[0]) / s, (z[0] + x[2]) / s, (z[1] + y[2]) / s, s / 4};
+    }
+    return quat_normalized(q);
+}
+
 inline double quat_angle_between(const Quat& a, const Quat& b) {
     double d = std::fabs(a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]);
     return 2.0 * std::acos(d > 1.0 ? 1.0 : d);

@@ -97,9 +97,37 @@ void thicken_mesh(std::vector<double>& xyz, const std::vector<uint32_t>& triangl
     }
 }
 
+// A hull that is a box (eight corners, six rectangular faces: a cube with Blender's default
+// CONVEX_HULL shape) as a box part: ODE's box contacts keep a stack of them still, where its
+// general convex contacts let it creep apart. False for any other hull.
+bool box_of_hull(const ConvexHull& hull, CollisionPart& part) {
+    if (hull.points.size() != 8 || hull.faces.size() != 6) return false;
+    std::vector<Vec3> axes;
+    for (const auto& plane : hull.planes) {
+        const Vec3 n{plane[0], plane[1], plane[2]};
+        if (std::none_of(axes.begin(), axes.end(), [&](const Vec3& a) { return std::fabs(dot(a, n)) > 1 - 1e-9; }))
+            axes.push_back(n);
+    }
+    if (axes.size() != 3) return false;
+    for (int i = 0; i < 3; ++i)
+        if (std::fabs(dot(axes[i], axes[(i + 1) % 3])) > 1e-9) return false;
+    axes[2] = cross(axes[0], axes[1]);
+    Vec3 center{0, 0, 0};
+    for (int a = 0; a < 3; ++a) {
+        double lo = 1e300, hi = -1e300;
+        for (const Vec3& p : hull.points) lo = std::min(lo, dot(p, axes[a])), hi = std::max(hi, dot(p, axes[a]));
+        part.half_extents_m[a] = (hi - lo) / 2;
+        center = add(center, scale(axes[a], (hi + lo) / 2));
+    }
+    part.kind = PartKind::Box;
+    part.offset = {center, quat_from_axes(axes[0], axes[1], axes[2])};
+    return true;
+}
+
 CollisionPart convex_part(std::vector<double> points) {
     const ConvexHull hull = compute_convex_hull(points);
     CollisionPart part;
+    if (box_of_hull(hull, part)) return part;
     part.kind = PartKind::Convex;
     for (const Vec3& p : hull.points) part.convex_points.insert(part.convex_points.end(), p.begin(), p.end());
     for (const auto& plane : hull.planes) part.convex_planes.insert(part.convex_planes.end(), plane.begin(), plane.end());
@@ -177,6 +205,7 @@ void compile_shape(const Shape& shape, const Transform& placement, const Margins
             part.kind = PartKind::TriangleMesh;
             part.mesh_vertices = shape.vertices_m;
             if (margins.outer + grow > 0) thicken_mesh(part.mesh_vertices, shape.triangles, margins.outer + grow);
+            part.mesh_margin_m = margins.outer;
             part.mesh_vertices = place_points(part.mesh_vertices, placement, origin);
             part.mesh_indices = shape.triangles;
             has_mesh = true;

@@ -25,7 +25,8 @@ struct CollisionPart {
     std::vector<double> convex_planes;          ///< (f, 4)
     std::vector<unsigned int> convex_polygons;  ///< ODE layout: count, indices..., per face
     unsigned int convex_plane_count = 0, convex_point_count = 0;
-    std::vector<double> mesh_vertices;   ///< (n, 3)
+    std::vector<double> mesh_vertices;   ///< (n, 3), thickened by mesh_margin_m
+    double mesh_margin_m = 0;            ///< Blender's margin the mesh was thickened by
     std::vector<uint32_t> mesh_indices;  ///< (m, 3)
 };
 

@@ -33,9 +33,11 @@ void set_spring(dJointID joint, void (*set)(dJointID, int, dReal), int axis, dou
     set(joint, axis_param(dParamStopCFM, axis), 1.0 / denominator);
 }
 
-void set_motor(dJointID joint, void (*set)(dJointID, int, dReal), double velocity, double max_impulse, double h) {
+// Blender hands its motor "max impulse" to Bullet as the motor's maximum force (N, or N·m for an
+// angular motor), which Bullet turns into an impulse per step itself; ODE's FMax is that force.
+void set_motor(dJointID joint, void (*set)(dJointID, int, dReal), double velocity, double max_impulse) {
     set(joint, dParamVel, velocity);
-    set(joint, dParamFMax, max_impulse / h);
+    set(joint, dParamFMax, max_impulse);
 }
 
 }  // namespace
@@ -78,8 +80,10 @@ JointGroup build_constraint_joints(dWorldID world, const Constraint& c, dBodyID 
         case ConstraintType::Slider: {
             dJointID j = add_joint(dJointCreateSlider(world, nullptr));
             dJointSetSliderAxis(j, x_axis[0], x_axis[1], x_axis[2]);
+            // ODE measures the moving body against the other along the axis, as Blender measures
+            // object B against object A: a swapped pair keeps the sign (checked against Blender).
             set_limits(j, dJointSetSliderParam, 0, c.linear_limits.enabled[0], c.linear_limits.lower[0],
-                       c.linear_limits.upper[0], flipped);
+                       c.linear_limits.upper[0]);
             break;
         }
         case ConstraintType::Piston: {
@@ -87,7 +91,7 @@ JointGroup build_constraint_joints(dWorldID world, const Constraint& c, dBodyID 
             dJointSetPistonAnchor(j, p[0], p[1], p[2]);
             dJointSetPistonAxis(j, x_axis[0], x_axis[1], x_axis[2]);
             set_limits(j, dJointSetPistonParam, 0, c.linear_limits.enabled[0], c.linear_limits.lower[0],
-                       c.linear_limits.upper[0], flipped);
+                       c.linear_limits.upper[0]);
             set_limits(j, dJointSetPistonParam, 1, c.angular_limits.enabled[0], c.angular_limits.lower[0],
                        c.angular_limits.upper[0], flipped);
             break;
@@ -119,13 +123,13 @@ JointGroup build_constraint_joints(dWorldID world, const Constraint& c, dBodyID 
                 dJointID j = add_joint(dJointCreateAMotor(world, nullptr));
                 dJointSetAMotorNumAxes(j, 1);
                 dJointSetAMotorAxis(j, 0, 1, x_axis[0], x_axis[1], x_axis[2]);
-                set_motor(j, dJointSetAMotorParam, sign * c.motor_angular_target_velocity, c.motor_angular_max_impulse, step_s);
+                set_motor(j, dJointSetAMotorParam, sign * c.motor_angular_target_velocity, c.motor_angular_max_impulse);
             }
             if (c.motor_linear_enabled) {
                 dJointID j = add_joint(dJointCreateLMotor(world, nullptr));
                 dJointSetLMotorNumAxes(j, 1);
                 dJointSetLMotorAxis(j, 0, 1, x_axis[0], x_axis[1], x_axis[2]);
-                set_motor(j, dJointSetLMotorParam, sign * c.motor_linear_target_velocity, c.motor_linear_max_impulse, step_s);
+                set_motor(j, dJointSetLMotorParam, sign * c.motor_linear_target_velocity, c.motor_linear_max_impulse);
             }
             break;
         }

@@ -1,6 +1,7 @@
 #include "sim/ContactGenerator.h"
 
 #include <algorithm>
+#include <cmath>
 #include <mutex>
 #include <utility>
 
@@ -50,7 +51,7 @@ bool ContactGenerator::touching(const CandidatePair& pair) const {
     const auto& owners = world_.geom_owners();
     const bool either_is_mesh = owners[pair.first_index].is_mesh || owners[pair.second_index].is_mesh;
     dContactGeom contact;
-    return collide(pair.first, pair.second, either_is_mesh, 1, &contact) != 0;
+    return without_sphere_mesh_margin(pair, &contact, collide(pair.first, pair.second, either_is_mesh, 1, &contact)) != 0;
 }
 
 void ContactGenerator::collide_pair(const CandidatePair& pair) {
@@ -61,7 +62,9 @@ void ContactGenerator::collide_pair(const CandidatePair& pair) {
     if (!activity_.simulated(oa.body) && !activity_.simulated(ob.body)) return;
     if (world_.collision_disabled(oa.body, ob.body)) return;
     dContactGeom contacts[kMaxContactsPerPair];
-    const int count = collide(pair.first, pair.second, oa.is_mesh || ob.is_mesh, kMaxContactsPerPair, contacts);
+    int count = collide(pair.first, pair.second, oa.is_mesh || ob.is_mesh, kMaxContactsPerPair, contacts);
+    count = without_sphere_mesh_margin(pair, contacts, count);
+    count = without_degenerate_contacts(contacts, count);
     if (count == 0) return;
     const BodyInitialState& ma = world_.initial_states()[oa.body];
     const BodyInitialState& mb = world_.initial_states()[ob.body];
@@ -86,6 +89,38 @@ void ContactGenerator::collide_pair(const CandidatePair& pair) {
         note_contact(oa.body, ob.body, contacts[k]);
         note_contact(ob.body, oa.body, contacts[k]);
     }
+}
+
+int ContactGenerator::without_degenerate_contacts(dContactGeom* contacts, int count) {
+    // Some of ODE's colliders return a contact with no direction (a zero or NaN normal) when two
+    // faces lie exactly on each other; solved, it turns a body's state into NaN.
+    int kept = 0;
+    for (int k = 0; k < count; ++k) {
+        const dContactGeom& c = contacts[k];
+        const double n = std::sqrt(c.normal[0] * c.normal[0] + c.normal[1] * c.normal[1] + c.normal[2] * c.normal[2]);
+        if (std::isfinite(c.depth) && std::isfinite(c.pos[0]) && std::isfinite(c.pos[1]) && std::isfinite(c.pos[2]) &&
+            std::fabs(n - 1) < 1e-3)
+            contacts[kept++] = c;
+    }
+    return kept;
+}
+
+int ContactGenerator::without_sphere_mesh_margin(const CandidatePair& pair, dContactGeom* contacts, int count) const {
+    // Bullet's sphere-triangle test ignores the mesh's margin that every other shape meets: a
+    // sphere touches the mesh itself, so the thickened mesh's contacts are that much shallower.
+    const auto& owners = world_.geom_owners();
+    const GeomOwner& oa = owners[pair.first_index];
+    const GeomOwner& ob = owners[pair.second_index];
+    double margin = 0;
+    if (oa.is_mesh && dGeomGetClass(pair.second) == dSphereClass) margin = oa.mesh_margin_m;
+    if (ob.is_mesh && dGeomGetClass(pair.first) == dSphereClass) margin = ob.mesh_margin_m;
+    if (margin <= 0) return count;
+    int kept = 0;
+    for (int k = 0; k < count; ++k) {
+        contacts[k].depth -= margin;
+        if (contacts[k].depth > 0) contacts[kept++] = contacts[k];
+    }
+    return kept;
 }
 
 void ContactGenerator::note_contact(int32_t body, int32_t other, const dContactGeom& contact) {

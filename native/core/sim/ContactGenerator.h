@@ -48,6 +48,10 @@ public:
 
 private:
     void collide_pair(const CandidatePair& pair);
+    /// Drops contacts without a usable normal or depth; returns how many remain.
+    static int without_degenerate_contacts(dContactGeom* contacts, int count);
+    /// Drops Blender's mesh margin from sphere-mesh contacts; returns how many contacts remain.
+    int without_sphere_mesh_margin(const CandidatePair& pair, dContactGeom* contacts, int count) const;
     void note_contact(int32_t body, int32_t other, const dContactGeom& contact);
 
     OdeWorld& world_;

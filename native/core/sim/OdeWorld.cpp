@@ -148,7 +148,8 @@ void OdeWorld::create_geoms(size_t body_index, const std::vector<CollisionPart>&
         geoms_.push_back(geom);
         if (ghost) ghost_geoms_[body_index].push_back(geom);
         dGeomSetData(geom, reinterpret_cast<void*>(static_cast<intptr_t>(geom_owners_.size())));
-        geom_owners_.push_back({static_cast<int32_t>(body_index), part.kind == PartKind::TriangleMesh, ghost});
+        geom_owners_.push_back({static_cast<int32_t>(body_index), part.kind == PartKind::TriangleMesh, ghost,
+                                part.mesh_margin_m});
         // Blender bodies collide when they share a collision collection.
         dGeomSetCategoryBits(geom, collections);
         dGeomSetCollideBits(geom, collections);

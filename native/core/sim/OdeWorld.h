@@ -33,6 +33,7 @@ struct GeomOwner {
     int32_t body = -1;
     bool is_mesh = false;
     bool ghost = false;  ///< a refinement ghost of `body`: detects contacts, never makes any
+    double mesh_margin_m = 0;  ///< a triangle mesh thickened by Blender's collision margin
 };
 
 /// Not thread-safe: one thread at a time per world, after prepare_ode_thread() on that thread.
