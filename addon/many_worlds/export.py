@@ -243,6 +243,22 @@ class SceneExporter:
             body["variation"] = variation
         return body
 
+    def warn_round_bodies_on_meshes(self, bodies):
+        """The engine's contacts between a triangle mesh and a cylinder or a many-sided hull let
+        the body tilt or roll where Blender's rest: name each such body that can meet a MESH."""
+        meshes = [b for b in bodies if b["shape"]["type"] == "MESH"]
+        for body in bodies:
+            shape = body["shape"]
+            round_shape = shape["type"] == "CYLINDER" or (shape["type"] == "CONVEX_HULL" and
+                                                          len(shape["vertices_m"]) > 3 * 8)
+            if body["type"] != "ACTIVE" or body["kinematic"] or not round_shape:
+                continue
+            touching = [m["name"] for m in meshes if m["collision_collections"] & body["collision_collections"]]
+            if touching:
+                self.report(body["name"], "collision_shape",
+                            f"a {shape['type']} against the MESH shape of {touching[0]!r} may tilt or roll where "
+                            "Blender's rests; a BOX or CONVEX_HULL shape on that object matches Blender")
+
     # --- constraints ------------------------------------------------------------------------
 
     @staticmethod
@@ -273,6 +289,11 @@ class SceneExporter:
         c = {"name": ob.name, "type": rbc.type, "body_a": ends[0], "body_b": ends[1], "enabled": bool(rbc.enabled),
              "disable_collisions": bool(rbc.disable_collisions), "frame": frame,
              "breakable": bool(rbc.use_breaking), "breaking_threshold": float(rbc.breaking_threshold)}
+        if rbc.use_breaking:
+            self.report(ob.name, "breaking_threshold", "breaking is approximated: the engine compares the "
+                                                       "joint's force per step along the constraint's axes with the "
+                                                       "threshold, Bullet its solver impulses; near the threshold it "
+                                                       "may break at another moment than in Blender")
         if rbc.use_override_solver_iterations:
             self.report(ob.name, "solver_iterations", "per-constraint solver iterations are not supported; "
                                                       "the world's iterations are used")
@@ -294,6 +315,10 @@ class SceneExporter:
                 if rbc.spring_type == "SPRING1" and any(c["angular_springs"]["enabled"]):
                     self.report(ob.name, "spring_type", "SPRING1 (Blender's old spring) is simulated as a "
                                                         "damped spring like SPRING2")
+                if any(c["angular_springs"]["enabled"]):
+                    self.report(ob.name, "spring_damping_ang", "angular spring damping is approximated: the "
+                                                               "engine's springs come to rest sooner than "
+                                                               "Blender's")
             lin = c["linear_limits"]
             if not all(lin["enabled"]) or any(lin["lower"]) or any(lin["upper"]):
                 self.report(ob.name, "linear limits", f"{kind} with free or limited linear axes is not supported "
@@ -358,6 +383,7 @@ class SceneExporter:
             self.scene.frame_set(frame_start)
             bodies = [b for b in (self.body(ob, animations.get(ob.name), *spans[ob.name]) for ob in objects)
                       if b is not None]
+            self.warn_round_bodies_on_meshes(bodies)
             names = {b["name"] for b in bodies}
             constraint_objects = []
             if self.rbw.constraints is not None:

@@ -137,6 +137,11 @@ JointGroup build_constraint_joints(dWorldID world, const Constraint& c, dBodyID 
     if (c.breakable && !group.joints.empty()) {
         group.feedback = std::make_unique<dJointFeedback>();
         dJointSetFeedback(group.joints.front(), group.feedback.get());
+        const dReal* p = dBodyGetPosition(a);
+        const Vec3 com{p[0], p[1], p[2]};
+        const dReal* q = dBodyGetQuaternion(a);
+        const Quat to_body = quat_conjugate(Quat{q[0], q[1], q[2], q[3]});
+        group.frame_in_body = {quat_rotate(to_body, sub(c.frame.location, com)), quat_multiply(to_body, c.frame.rotation)};
     }
     return group;
 }

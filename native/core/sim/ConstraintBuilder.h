@@ -14,6 +14,9 @@ namespace mwb {
 struct JointGroup {
     std::vector<dJointID> joints;
     std::unique_ptr<dJointFeedback> feedback;  ///< on joints[0], only for breakable constraints
+    /// Breakable constraints: the constraint's frame in joints[0]'s first body's frame (centre of
+    /// mass), to read the feedback along the constraint's own axes as the body moves.
+    Transform frame_in_body;
     bool broken = false;
 };
 

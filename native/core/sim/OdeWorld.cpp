@@ -250,8 +250,22 @@ void OdeWorld::break_overloaded_joints() {
     for (size_t i = 0; i < joint_groups_.size(); ++i) {
         const JointGroup& group = joint_groups_[i];
         if (group.broken || !group.feedback) continue;
+        // Bullet breaks a constraint when the impulse of any one of its rows (the linear and
+        // angular axes of the constraint's frame) reaches the threshold within a step. ODE reports
+        // the force and torque on the first body about its centre of mass: the torque is moved
+        // to the constraint's pivot, and both are read along the frame's axes.
+        const dBodyID body = dJointGetBody(group.joints.front(), 0);
+        const dReal* q = dBodyGetQuaternion(body);
+        const Quat rotation{q[0], q[1], q[2], q[3]};
+        const Vec3 arm = quat_rotate(rotation, group.frame_in_body.location);  // centre of mass to pivot
         const Vec3 force{group.feedback->f1[0], group.feedback->f1[1], group.feedback->f1[2]};
-        if (norm(force) * compiled_.physics_dt_s() > constraints[i].breaking_threshold) break_joint(i);
+        const Vec3 torque_at_com{group.feedback->t1[0], group.feedback->t1[1], group.feedback->t1[2]};
+        const Vec3 torque = sub(torque_at_com, cross(arm, force));
+        const Quat to_frame = quat_conjugate(quat_multiply(rotation, group.frame_in_body.rotation));
+        const Vec3 f = quat_rotate(to_frame, force), t = quat_rotate(to_frame, torque);
+        double largest = 0;
+        for (int k = 0; k < 3; ++k) largest = std::max({largest, std::fabs(f[k]), std::fabs(t[k])});
+        if (largest * compiled_.physics_dt_s() >= constraints[i].breaking_threshold) break_joint(i);
     }
 }
 
