@@ -243,9 +243,11 @@ class SceneExporter:
             body["variation"] = variation
         return body
 
-    def warn_round_bodies_on_meshes(self, bodies):
-        """The engine's contacts between a triangle mesh and a cylinder or a many-sided hull let
-        the body tilt or roll where Blender's rest: name each such body that can meet a MESH."""
+    def warn_round_bodies_on_meshes(self, scene):
+        """A cylinder or a many-sided hull against a MESH shape (thickened by its margin) may tilt
+        or roll in the engine where Blender's rests (ODE's contacts of round shapes): name each such
+        body that can meet a MESH."""
+        bodies = scene["bodies"]
         meshes = [b for b in bodies if b["shape"]["type"] == "MESH"]
         for body in bodies:
             shape = body["shape"]
@@ -257,7 +259,7 @@ class SceneExporter:
             if touching:
                 self.report(body["name"], "collision_shape",
                             f"a {shape['type']} against the MESH shape of {touching[0]!r} may tilt or roll where "
-                            "Blender's rests; a BOX or CONVEX_HULL shape on that object matches Blender")
+                            "Blender's rests")
 
     # --- constraints ------------------------------------------------------------------------
 
@@ -383,7 +385,6 @@ class SceneExporter:
             self.scene.frame_set(frame_start)
             bodies = [b for b in (self.body(ob, animations.get(ob.name), *spans[ob.name]) for ob in objects)
                       if b is not None]
-            self.warn_round_bodies_on_meshes(bodies)
             names = {b["name"] for b in bodies}
             constraint_objects = []
             if self.rbw.constraints is not None:
@@ -394,6 +395,7 @@ class SceneExporter:
             self.scene.frame_set(frame_was, subframe=subframe_was)
         scene = {"format": SCENE_FORMAT, "version": SCENE_VERSION, "name": self.scene.name, "world": world,
                  "bodies": bodies, "constraints": constraints}
+        self.warn_round_bodies_on_meshes(scene)
         return ExportResult(scene, self.problems)
 
 

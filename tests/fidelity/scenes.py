@@ -350,13 +350,13 @@ def breakable_shelves():
     frames(60)
 
 
-def fracture_wall(lift=0.0):
+def fracture_wall(lift=0.0, ground_shape="BOX"):
     """A wall cut by Cell Fracture (points from a child grid) into 15 convex pieces, masses by
     Calculate Mass (Brick (Common)), each piece joined to its neighbours by Connect FIXED (breakable,
     threshold 20), standing on a passive plane; a timber ball (Calculate Mass) thrown by keyed
     Animated knocks a hole in it."""
     addon_utils.enable("object_fracture_cell", default_set=False)
-    ground("BOX", size=20)
+    ground(ground_shape, size=20)
     z = 0.6 + lift
     wall = add_mesh("cube", "Wall", size=1.0, location=(0, 0, z), scale=(2.0, 0.2, 1.2))
     grid = add_mesh("grid", "Cuts", x_subdivisions=4, y_subdivisions=2, size=1.0,

@@ -162,3 +162,37 @@ TEST(ConvexHull, DegenerateInputsThrow) {
 
 }  // namespace
 }  // namespace mwb
+
+namespace mwb {
+namespace {
+
+// The unit cube's 8 corners and its 12 triangles (outward), face by face: -z, +z, -y, +y, -x, +x.
+const std::vector<double> kCubeCorners{0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1};
+const std::vector<uint32_t> kCubeTriangles{0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                                           3, 7, 6, 3, 6, 2, 0, 4, 7, 0, 7, 3, 1, 2, 6, 1, 6, 5};
+
+TEST(MeshFillsItsHull, ClosedConvexMeshesAndWholePlanesDo) {
+    EXPECT_TRUE(mesh_fills_its_hull(kCubeCorners, kCubeTriangles));
+    const std::vector<double> plane{-2, -2, 0, 2, -2, 0, 2, 2, 0, -2, 2, 0};
+    EXPECT_TRUE(mesh_fills_its_hull(plane, {0, 1, 2, 0, 2, 3}));
+}
+
+TEST(MeshFillsItsHull, OpenConcaveNotchedOrDoubledMeshesDoNot) {
+    // A bin: the cube without its top face must stay hollow.
+    std::vector<uint32_t> open(kCubeTriangles.begin(), kCubeTriangles.end());
+    open.erase(open.begin() + 6, open.begin() + 12);
+    EXPECT_FALSE(mesh_fills_its_hull(kCubeCorners, open));
+    // An L-shaped floor: its hull would fill the notch.
+    const std::vector<double> l_floor{0, 0, 0, 2, 0, 0, 2, 1, 0, 1, 1, 0, 1, 2, 0, 0, 2, 0};
+    EXPECT_FALSE(mesh_fills_its_hull(l_floor, {0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 5}));
+    // A plane whose triangles are there twice (both sides modelled).
+    const std::vector<double> plane{-2, -2, 0, 2, -2, 0, 2, 2, 0, -2, 2, 0};
+    EXPECT_FALSE(mesh_fills_its_hull(plane, {0, 1, 2, 0, 2, 3, 0, 2, 1, 0, 3, 2}));
+    // A cube with a dent: one corner pushed in.
+    std::vector<double> dented = kCubeCorners;
+    dented[18] = dented[19] = dented[20] = 0.8;
+    EXPECT_FALSE(mesh_fills_its_hull(dented, kCubeTriangles));
+}
+
+}  // namespace
+}  // namespace mwb

@@ -1,6 +1,7 @@
 #include "geometry/ConvexHull.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -356,6 +357,55 @@ std::vector<double> thicken_flat_points(const std::vector<double>& xyz) {
             out.insert(out.end(), p.begin(), p.end());
         }
     return out;
+}
+
+bool mesh_fills_its_hull(const std::vector<double>& vertices, const std::vector<uint32_t>& triangles) {
+    const std::vector<double> solid = thicken_flat_points(vertices);
+    const bool flat = solid.size() != vertices.size();
+    ConvexHull hull;
+    try {
+        hull = compute_convex_hull(solid);
+    } catch (const GeometryError&) {
+        return false;
+    }
+    auto vertex = [&](uint32_t i) { return Vec3{vertices[3 * i], vertices[3 * i + 1], vertices[3 * i + 2]}; };
+    auto face_area = [&](const std::vector<uint32_t>& face) {
+        double area = 0;
+        for (size_t i = 1; i + 1 < face.size(); ++i)
+            area += norm(cross(sub(hull.points[face[i]], hull.points[face[0]]),
+                               sub(hull.points[face[i + 1]], hull.points[face[0]]))) / 2;
+        return area;
+    };
+    double extent = 0;
+    for (const Vec3& p : hull.points) extent = std::max(extent, norm(p));
+    const double tol = 1e-7 * (1 + extent);
+    std::vector<double> covered(hull.faces.size(), 0.0);
+    double total = 0;
+    for (size_t t = 0; t + 2 < triangles.size(); t += 3) {
+        const Vec3 a = vertex(triangles[t]), b = vertex(triangles[t + 1]), c = vertex(triangles[t + 2]);
+        const double area = norm(cross(sub(b, a), sub(c, a))) / 2;
+        total += area;
+        if (flat) continue;
+        size_t f = 0;
+        for (; f < hull.faces.size(); ++f) {
+            const Vec3 n{hull.planes[f][0], hull.planes[f][1], hull.planes[f][2]};
+            const double d = hull.planes[f][3];
+            if (std::fabs(dot(n, a) - d) <= tol && std::fabs(dot(n, b) - d) <= tol && std::fabs(dot(n, c) - d) <= tol) break;
+        }
+        if (f == hull.faces.size()) return false;  // inside the hull: not convex
+        covered[f] += area;
+    }
+    if (flat) {
+        // The triangles lie in the slab's mid-plane: together they must cover its outline once.
+        double outline = 0;
+        for (const auto& face : hull.faces) outline = std::max(outline, face_area(face));
+        return std::fabs(total - outline) <= 1e-4 * outline;
+    }
+    for (size_t f = 0; f < hull.faces.size(); ++f) {
+        const double area = face_area(hull.faces[f]);
+        if (std::fabs(covered[f] - area) > 1e-4 * std::max(area, 1e-12)) return false;
+    }
+    return true;
 }
 
 }  // namespace mwb

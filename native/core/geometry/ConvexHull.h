@@ -35,4 +35,9 @@ constexpr double kFlatShapeHalfThickness_m = 0.0005;
 /// point set unchanged. Flatness uses compute_convex_hull's tolerance.
 std::vector<double> thicken_flat_points(const std::vector<double>& xyz);
 
+/// Whether a triangle mesh is the whole surface of its convex hull: closed and convex (a box), or
+/// flat without holes or notches (a ground plane). Every triangle lies in a hull face and the
+/// triangles in each face cover it exactly once. Such a mesh can collide as its hull.
+bool mesh_fills_its_hull(const std::vector<double>& vertices, const std::vector<uint32_t>& triangles);
+
 }  // namespace mwb

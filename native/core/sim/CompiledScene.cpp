@@ -124,10 +124,16 @@ bool box_of_hull(const ConvexHull& hull, CollisionPart& part) {
     return true;
 }
 
-CollisionPart convex_part(std::vector<double> points) {
-    const ConvexHull hull = compute_convex_hull(points);
+// The part of a convex shape of `points` (body frame) grown by `margin`: a box when the hull is a
+// box (its faces moved out), else a general convex hull (faces moved out, edges bevelled).
+CollisionPart convex_part(std::vector<double> points, double margin) {
     CollisionPart part;
-    if (box_of_hull(hull, part)) return part;
+    if (box_of_hull(compute_convex_hull(points), part)) {
+        for (double& extent : part.half_extents_m) extent += margin;
+        return part;
+    }
+    if (margin > 0) grow_hull_points(points, margin);
+    const ConvexHull hull = compute_convex_hull(points);
     part.kind = PartKind::Convex;
     for (const Vec3& p : hull.points) part.convex_points.insert(part.convex_points.end(), p.begin(), p.end());
     for (const auto& plane : hull.planes) part.convex_planes.insert(part.convex_planes.end(), plane.begin(), plane.end());
@@ -197,11 +203,19 @@ void compile_shape(const Shape& shape, const Transform& placement, const Margins
             std::vector<double> local = shape.type == ShapeType::Cone ? cone_points(shape.radius_m, shape.height_m)
                                                                       : thicken_flat_points(shape.vertices_m);
             const double outward = grow + (shape.type == ShapeType::ConvexHull ? margins.hull : margins.outer);
-            if (outward > 0) grow_hull_points(local, outward);
-            part = convex_part(place_points(local, placement, origin));
+            part = convex_part(place_points(local, placement, origin), outward);
             break;
         }
         case ShapeType::Mesh:
+            // A mesh that is the whole surface of a convex shape (a box, a ground plane) collides as
+            // that shape grown by the margin, as Bullet's thickened triangles do: ODE's convex-vs-mesh
+            // contacts let convex bodies sink through large triangles.
+            if (mesh_fills_its_hull(shape.vertices_m, shape.triangles)) {
+                part = convex_part(place_points(thicken_flat_points(shape.vertices_m), placement, origin),
+                                   margins.outer + grow);
+                part.mesh_margin_m = margins.outer;
+                break;
+            }
             part.kind = PartKind::TriangleMesh;
             part.mesh_vertices = shape.vertices_m;
             if (margins.outer + grow > 0) thicken_mesh(part.mesh_vertices, shape.triangles, margins.outer + grow);

@@ -112,8 +112,8 @@ int ContactGenerator::without_sphere_mesh_margin(const CandidatePair& pair, dCon
     const GeomOwner& oa = owners[pair.first_index];
     const GeomOwner& ob = owners[pair.second_index];
     double margin = 0;
-    if (oa.is_mesh && dGeomGetClass(pair.second) == dSphereClass) margin = oa.mesh_margin_m;
-    if (ob.is_mesh && dGeomGetClass(pair.first) == dSphereClass) margin = ob.mesh_margin_m;
+    if (dGeomGetClass(pair.second) == dSphereClass) margin = oa.mesh_margin_m;
+    if (dGeomGetClass(pair.first) == dSphereClass) margin = ob.mesh_margin_m;
     if (margin <= 0) return count;
     int kept = 0;
     for (int k = 0; k < count; ++k) {
