@@ -317,10 +317,6 @@ class SceneExporter:
                 if rbc.spring_type == "SPRING1" and any(c["angular_springs"]["enabled"]):
                     self.report(ob.name, "spring_type", "SPRING1 (Blender's old spring) is simulated as a "
                                                         "damped spring like SPRING2")
-                if any(c["angular_springs"]["enabled"]):
-                    self.report(ob.name, "spring_damping_ang", "angular spring damping is approximated: the "
-                                                               "engine's springs come to rest sooner than "
-                                                               "Blender's")
             lin = c["linear_limits"]
             if not all(lin["enabled"]) or any(lin["lower"]) or any(lin["upper"]):
                 self.report(ob.name, "linear limits", f"{kind} with free or limited linear axes is not supported "

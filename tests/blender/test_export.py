@@ -54,7 +54,9 @@ def test_every_shape_has_blenders_dimensions():
     bpy.context.view_layer.update()
 
     scene, bodies, _, problems = exported()
-    assert problems == []
+    # The one approximation this scene meets: ODE's cylinder contacts against a MESH.
+    assert problems == ["Drum: collision_shape: a CYLINDER against the MESH shape of 'Ramp' may tilt or roll "
+                        "where Blender's rests"]
     assert sorted(bodies) == ["Ball", "Cone", "Drum", "Ground", "Letter", "Pill", "Ramp", "Rock"]
     assert bodies["Ground"]["shape"] == {"type": "BOX", "half_extents_m": approx([5, 4, 0.1])}
     assert bodies["Ground"]["type"] == "PASSIVE"
@@ -173,7 +175,9 @@ def test_every_constraint_type_with_limits_springs_and_motors():
          use_motor_lin=True, motor_lin_target_velocity=-1.0, motor_lin_max_impulse=2.0, enabled=False)
 
     _, _, constraints, problems = exported()
-    assert problems == []
+    # Breaking is the one setting here the engine approximates: each breakable constraint says so.
+    assert problems and all(": breaking_threshold: breaking is approximated" in line for line in problems)
+    assert len(problems) == sum(1 for c in constraints.values() if c["breakable"])
     assert sorted(constraints) == ["Fixed", "Generic", "Hinge", "Motor", "Piston", "Point", "Slider", "Spring"]
     f = constraints["Fixed"]
     assert (f["type"], f["body_a"], f["body_b"]) == ("FIXED", "A", "B")

@@ -28,9 +28,10 @@ def main(out_dir):
     many_worlds.register()
     drop_scene(bodies=3)
     os.makedirs(out_dir, exist_ok=True)
-    # Start a new library: Sample would otherwise add worlds to one left by an earlier run.
-    for name in ("paths.blend", "paths.mwb", "paths.scene.json"):
-        if os.path.exists(os.path.join(out_dir, name)):
+    # Start a new library: Sample would otherwise add worlds to one left by an earlier run (or to
+    # the libraries a changed run started beside it).
+    for name in os.listdir(out_dir):
+        if name.startswith("paths") and name.endswith((".blend", ".mwb", ".scene.json")):
             os.remove(os.path.join(out_dir, name))
     bpy.ops.wm.save_as_mainfile(filepath=os.path.join(out_dir, "paths.blend"))
     bpy.context.scene.mwb.world_count = WORLDS
