@@ -2,8 +2,8 @@
 run the command line) export the scene and read the scene's run settings here, and nowhere else,
 so the same .blend and world range give the same library whichever way it was started."""
 import os
-import shutil
 import subprocess
+import tempfile
 
 from . import export
 from .core import engine as engine_process
@@ -35,31 +35,40 @@ def run_settings(scene, seed=None, duration_s=None):
         rotation_error_deg=float(setting("rotation_error_deg", 0.5)))
 
 
-def export_scene_for(context, library):
-    """Export and validate the scene, and write its JSON next to `library`. Returns (path of the
-    scene JSON, export warnings). Raises RunSetupError when the scene cannot be sampled."""
+def export_scene(context):
+    """Export and validate the scene. Returns (scene JSON text, export warnings). Raises
+    RunSetupError when the scene cannot be sampled."""
     result, invalid = export.export_and_validate(context)
     if result.scene is None or invalid:
         reasons = invalid or result.problems or ["no rigid body world"]
         raise RunSetupError("The scene cannot be sampled: " + "; ".join(reasons), result.problems)
+    return result.to_json(), result.problems
+
+
+def write_scene_json(scene_text, library):
+    """Write the exported scene beside `library` (where the engine and later runs find it)."""
     os.makedirs(os.path.dirname(library) or ".", exist_ok=True)
-    scene_json = paths.scene_json_path(library)
-    with open(scene_json, "w") as f:
-        f.write(result.to_json())
-    return scene_json, result.problems
+    path = paths.scene_json_path(library)
+    with open(path, "w") as f:
+        f.write(scene_text)
+    return path
+
+
+def _threads(scene, threads):
+    """Engine threads: `threads` when given, else the scene's setting (0: all cores). They change
+    the order worlds are stored in, never the worlds."""
+    return int(threads if threads is not None else getattr(getattr(scene, "mwb", None), "threads", 0))
 
 
 def sample_argv(context, library, first_world, world_count, threads=None, seed=None, duration_s=None):
     """Export the scene and build the engine command that samples worlds
-    [first_world, first_world + world_count) of it into `library`, with the scene's run settings
-    (threads too, unless given: they change the order worlds are stored in, never the worlds).
+    [first_world, first_world + world_count) of it into `library`, with the scene's run settings.
     Returns (argv, export warnings); raises RunSetupError or FileNotFoundError (no engine)."""
     engine = paths.engine_path()
-    scene_json, warnings = export_scene_for(context, library)
+    scene_text, warnings = export_scene(context)
     settings = run_settings(context.scene, seed=seed, duration_s=duration_s)
-    if threads is None:
-        threads = int(getattr(getattr(context.scene, "mwb", None), "threads", 0))
-    argv = engine_process.sample_command(engine, scene_json, library, settings, first_world, world_count, threads)
+    argv = engine_process.sample_command(engine, write_scene_json(scene_text, library), library, settings,
+                                         first_world, world_count, _threads(context.scene, threads))
     return argv, warnings
 
 
@@ -73,40 +82,37 @@ def library_holds_run(argv):
     return result.stdout.split()[1]
 
 
-def _retarget(argv, library):
-    """The same sample command writing `library` (its scene JSON beside it)."""
-    argv = list(argv)
-    old_scene = argv[argv.index("--scene") + 1]
-    new_scene = paths.scene_json_path(library)
-    if new_scene != old_scene:
-        shutil.copyfile(old_scene, new_scene)
-    argv[argv.index("--scene") + 1] = new_scene
-    argv[argv.index("--out") + 1] = library
-    return argv
+def _next_world_index(library):
+    from . import _native
+    return _native.Library(library, 0.0).next_world_index if os.path.isfile(library) else 0
 
 
 def sample_into_matching_library(context, library, known, first_world, world_count):
     """The Sample button's run: into `library` if it holds this run (or does not exist yet), else
-    into the first of the `known` libraries that does, else into a new library beside it, so a
-    changed range, object or setting never stops Sample and never touches the worlds sampled
-    before. Returns (argv, library used, export warnings); the first world is ignored for a
-    library that is not `library` (its next index is used)."""
-    argv, warnings = sample_argv(context, library, first_world, world_count)
-    if library_holds_run(argv) in ("same", "new"):
-        return argv, library, warnings
-    for other in known:
-        if other != library and os.path.isfile(other):
-            candidate = _retarget(argv, other)
-            if library_holds_run(candidate) == "same":
-                return _with_first_world(candidate, other, world_count), other, warnings
-    new = paths.next_library_path(library, taken=set(known))
-    return _with_first_world(_retarget(argv, new), new, world_count), new, warnings
+    into the first of the `known` libraries that does (after the worlds it holds), else into a new
+    library beside it, so a changed range, object or setting never stops Sample and never touches
+    the worlds sampled before. Returns (argv, library used, first world, export warnings)."""
+    engine = paths.engine_path()
+    scene_text, warnings = export_scene(context)
+    settings = run_settings(context.scene)
+    threads = _threads(context.scene, None)
 
+    def command(scene_json, target, first):
+        return engine_process.sample_command(engine, scene_json, target, settings, first, world_count, threads)
 
-def _with_first_world(argv, library, world_count):
-    """The command sampling the next `world_count` worlds after those `library` holds."""
-    from . import _native
-    first = _native.Library(library, 0.0).next_world_index if os.path.isfile(library) else 0
-    argv = list(argv)
-    argv[argv.index("--worlds") + 1] = f"{first}:{first + world_count}"
-    return argv
+    # Asked with a scratch copy of the export: the scene JSON beside a library is its own run's.
+    folder = os.path.dirname(library) or "."
+    os.makedirs(folder, exist_ok=True)
+    with tempfile.TemporaryDirectory(dir=folder) as scratch:
+        probe = os.path.join(scratch, "probe.scene.json")
+        with open(probe, "w") as f:
+            f.write(scene_text)
+        if library_holds_run(command(probe, library, first_world)) in ("same", "new"):
+            target, first = library, first_world
+        else:
+            target = next((other for other in known if other != library and os.path.isfile(other)
+                           and library_holds_run(command(probe, other, 0)) == "same"), None)
+            first = _next_world_index(target) if target is not None else 0
+    if target is None:
+        target = paths.next_library_path(library, taken=set(known))
+    return command(write_scene_json(scene_text, target), target, first), target, first, warnings

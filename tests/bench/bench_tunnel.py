@@ -6,14 +6,13 @@ Prints `BENCH tunnel_worlds_per_1000` (target 0) and `tunnel_pieces`.
 import os
 import sys
 
-import bpy
-
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "addon"))
 sys.path.insert(0, os.path.join(ROOT, "tests", "fidelity"))
+sys.path.insert(0, os.path.join(ROOT, "tests", "shared"))
 
-import many_worlds  # noqa: E402
 import tunnel  # noqa: E402
+from factory_scene import factory_scene_with_addon  # noqa: E402
 
 
 def report(name, value, unit, note=""):
@@ -23,9 +22,8 @@ def report(name, value, unit, note=""):
 
 args = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 worlds = int(args[0]) if args else 200
-bpy.ops.wm.read_factory_settings(use_empty=True)
-many_worlds.register()
-pieces, stored, tunnelled_worlds, tunnelled_pieces = tunnel.sample_fracture_wall_on_mesh(worlds)
+with factory_scene_with_addon():
+    pieces, stored, tunnelled_worlds, tunnelled_pieces = tunnel.sample_fracture_wall_on_mesh(worlds)
 print(f"Cell Fracture wall ({pieces} convex pieces) on a MESH plane, {stored} worlds")
 report("tunnel_worlds_per_1000", 1000.0 * tunnelled_worlds / max(stored, 1), "worlds",
        "worlds where a piece ends below the mesh it started above (target 0)")

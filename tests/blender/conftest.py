@@ -17,11 +17,9 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 @pytest.fixture(autouse=True)
 def fresh_scene():
     """Every test starts from an empty factory scene with the add-on registered, and unregisters it."""
-    import many_worlds
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    many_worlds.register()
-    yield bpy.context.scene
-    many_worlds.unregister()
+    from factory_scene import factory_scene_with_addon
+    with factory_scene_with_addon() as scene:
+        yield scene
 
 
 def override(ob):

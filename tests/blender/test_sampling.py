@@ -105,6 +105,12 @@ def test_a_changed_range_samples_into_a_new_library_and_the_old_one_stays(tmp_pa
     assert SESSION.view.path == str(tmp_path / "shot-2.mwb") and settings.library_path == "//shot-2.mwb"
     assert library_worlds(tmp_path / "shot-2.mwb") == [0, 1] and library_worlds(tmp_path / "shot.mwb") == [0, 1, 2]
     assert [bpy.path.basename(item.path) for item in settings.libraries] == ["shot.mwb", "shot-2.mwb"]
+    # Each library keeps the scene of its own run beside it.
+    def box0_range(name):
+        scene = json.loads((tmp_path / name).read_text())
+        return next(b for b in scene["bodies"] if b["name"] == "Box0")["variation"]["location_max_m"]
+    assert box0_range("shot.scene.json") == pytest.approx(old_max)
+    assert box0_range("shot-2.scene.json") == pytest.approx((0.3, 0.3, 0.3))
     # Back to the first library: it opens, and its worlds are listed.
     settings.library_index = 0
     assert SESSION.view.path == str(tmp_path / "shot.mwb") and len(settings.worlds) == 3

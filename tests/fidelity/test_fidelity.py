@@ -11,23 +11,12 @@ the reports into a Markdown table.
 import json
 import os
 
-import bpy
 import pytest
 
 import compare
 import scenes
 
 OUT = os.environ.get("MWB_FIDELITY_OUT", os.path.join(compare.ROOT, "build", "fidelity"))
-
-
-@pytest.fixture(autouse=True)
-def fresh_scene():
-    """Every test starts from an empty factory scene with the add-on registered, and unregisters it."""
-    import many_worlds
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    many_worlds.register()
-    yield bpy.context.scene
-    many_worlds.unregister()
 
 
 # Divergences known and not yet mended, each with why. strict: the test fails the day the scene

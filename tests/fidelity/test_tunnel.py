@@ -1,18 +1,7 @@
 """No convex piece passes through a passive mesh ground: 200 sampled worlds of a Cell Fracture
 wall on a MESH plane (the benchmark tunnel_worlds_per_1000 measures the same)."""
-import bpy
-import pytest
 
 import tunnel
-
-
-@pytest.fixture(autouse=True)
-def fresh_scene():
-    import many_worlds
-    bpy.ops.wm.read_factory_settings(use_empty=True)
-    many_worlds.register()
-    yield
-    many_worlds.unregister()
 
 
 def test_no_piece_of_a_fractured_wall_sinks_through_a_mesh_ground_in_200_worlds():

@@ -34,27 +34,24 @@ def next_world_index(view):
     return 0 if view is None else int(view.library.next_world_index)
 
 
+def find_library_item(settings, library):
+    """The scene's entry for the library file `library` (absolute path), or None."""
+    return next((item for item in settings.libraries if bpy.path.abspath(item.path) == library), None)
+
+
 def library_item(settings, library):
     """The scene's entry for the library file `library` (absolute path), added if missing."""
-    for item in settings.libraries:
-        if bpy.path.abspath(item.path) == library:
-            return item
-    item = settings.libraries.add()
-    item.path = bpy.path.relpath(library) if bpy.data.filepath else library
+    item = find_library_item(settings, library)
+    if item is None:
+        item = settings.libraries.add()
+        item.path = bpy.path.relpath(library) if bpy.data.filepath else library
     return item
-
-
-def _interrupted_range(item):
-    return (item.interrupted_first, item.interrupted_end) if item is not None and item.interrupted_first >= 0 else None
 
 
 def interrupted_run(scene):
     """(first, end) of the scene library's run cancelled before its end, or None."""
-    library = props.resolved_library_path(scene)
-    for item in scene.mwb.libraries:
-        if bpy.path.abspath(item.path) == library:
-            return _interrupted_range(item)
-    return None
+    item = find_library_item(scene.mwb, props.resolved_library_path(scene))
+    return (item.interrupted_first, item.interrupted_end) if item is not None and item.interrupted_first >= 0 else None
 
 
 def start_sampling(context, finish_interrupted=True):
@@ -83,7 +80,7 @@ def start_sampling(context, finish_interrupted=True):
         (next_world_index(SESSION.view), settings.world_count)
     known = [bpy.path.abspath(item.path) for item in settings.libraries]
     try:
-        argv, chosen, warnings = runs.sample_into_matching_library(context, library, known, first, count)
+        argv, chosen, first, warnings = runs.sample_into_matching_library(context, library, known, first, count)
     except runs.RunSetupError as error:
         SESSION.export_warnings = list(error.problems)
         return False, str(error), error.problems
@@ -100,7 +97,7 @@ def start_sampling(context, finish_interrupted=True):
     SESSION.export_warnings = list(warnings)
     item = library_item(settings, chosen)
     settings["library_index"] = list(settings.libraries).index(item)
-    first, end = (int(v) for v in argv[argv.index("--worlds") + 1].split(":"))
+    end = first + count
     SESSION.sampling_range = (first, end)
     start_run(scene, argv, chosen, "Sampling", f"Sampling worlds {first} to {end - 1}{note}", note)
     return True, SESSION.status, warnings
