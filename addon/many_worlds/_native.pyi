@@ -115,9 +115,11 @@ class QueryBox:
     negative: bool
     bodies: List[int]
     swept: bool
+    after: int  # position of the box this one must be met after, among the boxes queried together; -1: none
     def __init__(self, view: np.ndarray, projection: np.ndarray, viewport: Tuple[float, float],
                  rect: Sequence[float], negative: bool = False, bodies: Sequence[int] = ...,
-                 time_window: Optional[Tuple[float, float]] = None, swept: bool = False) -> None: ...
+                 time_window: Optional[Tuple[float, float]] = None, swept: bool = False,
+                 after: int = -1) -> None: ...
 
 class RankingMetric:
     name: str
@@ -135,6 +137,7 @@ class PathIndex:
     def rank(self, metric: str, bodies: Sequence[int], combine: str = "sum", descending: bool = False,
              only: Optional[Sequence[int]] = None,
              goals: Optional[Sequence[Sequence[float]]] = None) -> Tuple[np.ndarray, np.ndarray]: ...
+    def score(self, world: int, boxes: Sequence[QueryBox]) -> dict: ...
     def first_time_inside(self, world: int, bodies: Sequence[int], box: QueryBox) -> float: ...
 
 def validate_scene_json(text: str) -> List[str]: ...

@@ -26,7 +26,8 @@ Matrix4 to_matrix(const py::array_t<double, py::array::c_style | py::array::forc
 QueryBox make_box(const py::array_t<double, py::array::c_style | py::array::forcecast>& view,
                   const py::array_t<double, py::array::c_style | py::array::forcecast>& projection,
                   std::pair<double, double> viewport, std::array<double, 4> rect, bool negative,
-                  std::vector<uint32_t> bodies, std::optional<std::pair<double, double>> time_window, bool swept) {
+                  std::vector<uint32_t> bodies, std::optional<std::pair<double, double>> time_window, bool swept,
+                  int32_t after) {
     QueryBox box;
     try {
         box.frustum = make_screen_frustum(to_matrix(view, "view"), to_matrix(projection, "projection"), viewport.first,
@@ -43,6 +44,8 @@ QueryBox make_box(const py::array_t<double, py::array::c_style | py::array::forc
     box.negative = negative;
     box.bodies = std::move(bodies);
     box.swept = swept;
+    if (after < -1) throw py::value_error("after must be a box's position in the list, or -1");
+    box.after = after;
     return box;
 }
 
@@ -84,13 +87,15 @@ void bind_query(py::module_& m) {
     py::class_<QueryBox>(m, "QueryBox", "A screen rectangle seen through a camera: a frustum in world space.")
         .def(py::init(&make_box), py::arg("view"), py::arg("projection"), py::arg("viewport"), py::arg("rect"),
              py::arg("negative") = false, py::arg("bodies"), py::arg("time_window") = py::none(),
-             py::arg("swept") = false,
+             py::arg("swept") = false, py::arg("after") = -1,
              "view: (4, 4) world-to-camera; projection: (4, 4) camera-to-clip (OpenGL); viewport: (width, height)\n"
              "pixels; rect: (x0, y0, x1, y1) pixels from the bottom-left; bodies: scene body indices;\n"
-             "time_window: (start_s, end_s) or None; swept: test bounding spheres, not only origins.")
+             "time_window: (start_s, end_s) or None; swept: test bounding spheres, not only origins;\n"
+             "after: position, in the list of boxes queried together, of the box this one must be met after.")
         .def_readonly("negative", &QueryBox::negative)
         .def_readonly("bodies", &QueryBox::bodies)
-        .def_readonly("swept", &QueryBox::swept);
+        .def_readonly("swept", &QueryBox::swept)
+        .def_readonly("after", &QueryBox::after);
 
     py::class_<PathIndex>(m, "PathIndex", "Body paths of many worlds in OBB trees, for box queries and rankings.")
         .def(py::init<std::vector<double>>(), py::arg("body_radii_m"),
@@ -112,9 +117,11 @@ void bind_query(py::module_& m) {
             "query",
             [](const PathIndex& index, const std::vector<QueryBox>& boxes, uint64_t generation, bool brute_force) {
                 QueryResult result;
-                {
+                try {
                     py::gil_scoped_release release;
                     result = index.query(boxes, generation, brute_force);
+                } catch (const std::invalid_argument& error) {
+                    throw py::value_error(error.what());
                 }
                 py::dict d;
                 d["superseded"] = result.superseded;
@@ -124,7 +131,7 @@ void bind_query(py::module_& m) {
                 return d;
             },
             py::arg("boxes"), py::arg("generation") = 0, py::arg("brute_force") = false,
-            "Evaluate boxes (AND). Returns world_indices, boxes_satisfied (per world), matching, superseded.\n"
+            "Evaluate boxes (AND; ordered boxes in their order). Returns world_indices, boxes_satisfied (per world), matching, superseded.\n"
             "Runs with the GIL released; a later post_generation(g) with g > generation stops it early.")
         .def("post_generation", &PathIndex::post_generation, py::arg("generation"))
         .def(
@@ -156,6 +163,30 @@ void bind_query(py::module_& m) {
             py::arg("metric"), py::arg("bodies"), py::arg("combine") = "sum", py::arg("descending") = false,
             py::arg("only") = py::none(), py::arg("goals") = py::none(),
             "Worlds sorted by a metric over bodies: (world ids uint64, values float64).")
+        .def(
+            "score",
+            [](const PathIndex& index, uint64_t world, const std::vector<QueryBox>& boxes) {
+                GoalScore score;
+                try {
+                    score = index.score(world, boxes, goal_order(boxes));
+                } catch (const std::invalid_argument& error) {
+                    throw py::value_error(error.what());
+                }
+                py::dict d;
+                d["boxes_met"] = score.boxes_met;
+                d["met"] = std::vector<bool>(score.met.begin(), score.met.end());
+                d["met_time_s"] = score.met_time_s;
+                d["first_unmet"] = score.first_unmet;
+                d["closeness"] = score.closeness;
+                d["value"] = score.value();
+                d["failure_time_s"] = score.failure_time_s;
+                d["failing_bodies"] = score.failing_bodies;
+                return d;
+            },
+            py::arg("world"), py::arg("boxes"),
+            "How far a world gets towards the goal `boxes`: boxes_met (along the order), met, met_time_s,\n"
+            "first_unmet (-1: all met), closeness to it in [0, 1), value = boxes_met + closeness,\n"
+            "failure_time_s and failing_bodies (where and who missed it).")
         .def(
             "first_time_inside",
             [](const PathIndex& index, uint64_t world, const std::vector<uint32_t>& bodies, const QueryBox& box) {

@@ -55,16 +55,32 @@ Frustum make_screen_frustum(const Matrix4& view, const Matrix4& projection, doub
 }
 
 bool Frustum::touches_segment(const Vec3& a, const Vec3& b, double u0, double u1, double radius) const {
+    return first_touch(a, b, u0, u1, radius) >= 0;
+}
+
+double Frustum::first_touch(const Vec3& a, const Vec3& b, double u0, double u1, double radius) const {
     // Liang-Barsky clipping of the parameter interval against each half-space.
     for (const Plane& plane : planes) {
         const double da = plane.distance(a) + radius;
         const double db = plane.distance(b) + radius;
-        if (da < 0 && db < 0) return false;
+        if (da < 0 && db < 0) return -1;
         if (da < 0) u0 = std::max(u0, da / (da - db));
         else if (db < 0) u1 = std::min(u1, da / (da - db));
-        if (u0 > u1) return false;
+        if (u0 > u1) return -1;
     }
-    return true;
+    return u0;
+}
+
+double Frustum::view_relative_distance(const Vec3& p, double radius) const {
+    double farthest = 0;
+    for (size_t k = 0; k < planes.size(); k += 2) {
+        const double d0 = planes[k].distance(p) + radius, d1 = planes[k + 1].distance(p) + radius;
+        // d0 + d1 is the box's extent between the two planes where p is (exact for parallel
+        // planes, the local width for a perspective box's sides).
+        const double width = std::max(d0 + d1 - 2 * radius, 1e-9);
+        farthest = std::max({farthest, -d0 / width, -d1 / width});
+    }
+    return farthest;
 }
 
 int Frustum::classify_box(const Vec3& center, const std::array<Vec3, 3>& axes, const Vec3& half_extents,

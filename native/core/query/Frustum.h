@@ -25,6 +25,14 @@ struct Frustum {
     /// radius > 0 the planes move out by radius, which is exact across faces and conservative
     /// near edges and corners.
     bool touches_segment(const Vec3& a, const Vec3& b, double u0, double u1, double radius = 0) const;
+    /// The smallest u in [u0, u1] where the segment a→b touches (as touches_segment decides), or a
+    /// negative value if it does not.
+    double first_touch(const Vec3& a, const Vec3& b, double u0, double u1, double radius = 0) const;
+    /// How far `p` (grown by `radius`) is outside, in units of the box's own size where p is: for
+    /// each pair of opposite planes (left/right, bottom/top, near/far), the distance beyond one of
+    /// them divided by the distance between them; the largest of the three. 0 inside. Screen boxes
+    /// are drawn at any zoom, so closeness in box sizes means the same in every view.
+    double view_relative_distance(const Vec3& p, double radius = 0) const;
     /// Classifies a box (centre, unit axes, half extents) grown by `radius`: -1 entirely outside
     /// one plane, +1 entirely inside all planes, 0 otherwise (possibly crossing).
     int classify_box(const Vec3& center, const std::array<Vec3, 3>& axes, const Vec3& half_extents,

@@ -78,6 +78,7 @@ void PathIndex::add_worlds(std::vector<IndexedWorldInput> worlds, int threads) {
         if (std::binary_search(sorted_indices_.begin(), sorted_indices_.end(), world->world_index)) continue;
         sorted_indices_.insert(std::upper_bound(sorted_indices_.begin(), sorted_indices_.end(), world->world_index),
                                world->world_index);
+        by_index_[world->world_index] = world.get();
         worlds_.push_back(std::move(world));
     }
 }
@@ -133,6 +134,11 @@ bool PathIndex::world_satisfies(const World& world, const QueryBox& box, bool br
 
 QueryResult PathIndex::query(const std::vector<QueryBox>& boxes, uint64_t generation, bool brute_force) const {
     const std::vector<const World*> worlds = snapshot();
+    const bool ordered = std::any_of(boxes.begin(), boxes.end(), [](const QueryBox& b) { return b.after >= 0; });
+    const std::vector<size_t> order = goal_order(boxes);
+    for (const QueryBox& box : boxes)
+        for (uint32_t body : box.bodies)
+            if (body >= body_radii_m_.size()) throw std::out_of_range("query box names body " + std::to_string(body));
     QueryResult result;
     result.world_indices.reserve(worlds.size());
     result.boxes_satisfied.reserve(worlds.size());
@@ -143,7 +149,9 @@ QueryResult PathIndex::query(const std::vector<QueryBox>& boxes, uint64_t genera
             break;
         }
         uint32_t satisfied = 0;
-        for (const QueryBox& box : boxes) satisfied += world_satisfies(*worlds[k], box, brute_force);
+        if (ordered) satisfied = score_goal(worlds[k]->paths, body_radii_m_, boxes, order, false).boxes_met;
+        else
+            for (const QueryBox& box : boxes) satisfied += world_satisfies(*worlds[k], box, brute_force);
         result.world_indices.push_back(worlds[k]->world_index);
         result.boxes_satisfied.push_back(satisfied);
         if (satisfied == boxes.size()) result.matching.push_back(worlds[k]->world_index);
@@ -185,6 +193,19 @@ std::vector<std::pair<uint64_t, double>> PathIndex::rank(const std::string& metr
         return descending ? a.second > b.second : a.second < b.second;
     });
     return ranked;
+}
+
+const PathIndex::World* PathIndex::find(uint64_t world_index) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto it = by_index_.find(world_index);
+    return it == by_index_.end() ? nullptr : it->second;
+}
+
+GoalScore PathIndex::score(uint64_t world_index, const std::vector<QueryBox>& boxes,
+                           const std::vector<size_t>& order) const {
+    const World* world = find(world_index);
+    if (!world) throw std::out_of_range("world " + std::to_string(world_index) + " is not indexed");
+    return score_goal(world->paths, body_radii_m_, boxes, order);
 }
 
 double PathIndex::first_time_inside(uint64_t world_index, const std::vector<uint32_t>& bodies, const Frustum& frustum) const {

@@ -7,8 +7,10 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
+#include "query/GoalScore.h"
 #include "query/PathTree.h"
 
 namespace mwb {
@@ -20,6 +22,9 @@ struct QueryBox {
     std::vector<uint32_t> bodies;   ///< scene body indices the box applies to
     TimeWindow window;              ///< empty: the whole path
     bool swept = false;             ///< test each body's bounding sphere, not only its origin path
+    /// Position, in the same list of boxes, of the box this one must be met after; -1: any time.
+    /// An ordered box counts when that box is met and its path enters this one at or after then.
+    int32_t after = -1;
 };
 
 /// A world's paths and metrics as handed to the index.
@@ -59,7 +64,8 @@ public:
     bool contains(uint64_t world_index) const;
     size_t memory_bytes() const;
 
-    /// Evaluates boxes (combined by AND) over every indexed world, on the calling thread.
+    /// Evaluates boxes (combined by AND, ordered boxes in their order, see GoalScore.h) over every
+    /// indexed world, on the calling thread. Throws std::invalid_argument for a bad order.
     /// If post_generation() is called with a newer number while it runs, it stops early and
     /// returns superseded. `brute_force` skips the trees (for tests and benchmarks).
     QueryResult query(const std::vector<QueryBox>& boxes, uint64_t generation = 0, bool brute_force = false) const;
@@ -74,6 +80,9 @@ public:
                                                   Combine combine, bool descending,
                                                   const std::vector<uint64_t>* only = nullptr,
                                                   const std::vector<Quat>* goals = nullptr) const;
+
+    /// How far world `world_index` gets towards the goal `boxes` (order: goal_order(boxes)).
+    GoalScore score(uint64_t world_index, const std::vector<QueryBox>& boxes, const std::vector<size_t>& order) const;
 
     /// First time (seconds) any of `bodies` is inside `frustum` in `world_index`, or negative.
     double first_time_inside(uint64_t world_index, const std::vector<uint32_t>& bodies, const Frustum& frustum) const;
@@ -90,12 +99,14 @@ private:
 
     static std::unique_ptr<World> build_world(IndexedWorldInput&& input);
     std::vector<const World*> snapshot() const;
+    const World* find(uint64_t world_index) const;
     bool world_satisfies(const World& world, const QueryBox& box, bool brute_force) const;
 
     std::vector<double> body_radii_m_;
     mutable std::mutex mutex_;
     std::vector<std::unique_ptr<World>> worlds_;  ///< guarded by mutex_; World objects are immutable
     std::vector<uint64_t> sorted_indices_;        ///< guarded by mutex_
+    std::unordered_map<uint64_t, const World*> by_index_;  ///< guarded by mutex_
     std::atomic<uint64_t> latest_generation_{0};
 };
 

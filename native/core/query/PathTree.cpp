@@ -194,6 +194,59 @@ bool PathTree::touches_brute_force(const Frustum& frustum, const TimeWindow& win
     return segments_touch(0, static_cast<uint32_t>(point_count() - 1), frustum, lo, hi, radius);
 }
 
+double PathTree::segments_first_touch(uint32_t first, uint32_t last, const Frustum& frustum, double t_lo,
+                                      double t_hi, double radius) const {
+    for (uint32_t k = first; k < last; ++k) {
+        const double ta = time_of(k), tb = time_of(k + 1);
+        if (tb < t_lo || ta > t_hi) continue;
+        const double span = tb - ta;
+        const double u0 = span > 0 ? std::max(0.0, (t_lo - ta) / span) : 0.0;
+        const double u1 = span > 0 ? std::min(1.0, (t_hi - ta) / span) : 1.0;
+        const double u = frustum.first_touch(point(k), point(k + 1), u0, u1, radius);
+        if (u >= 0) return ta + u * span;
+    }
+    // The held last pose comes after every segment.
+    if ((first == last || last + 1 == point_count()) && time_of(last) <= t_hi && end_of(last) >= t_lo &&
+        frustum.touches_segment(point(last), point(last), 0, 1, radius))
+        return std::max(time_of(last), t_lo);
+    return std::numeric_limits<double>::infinity();
+}
+
+double PathTree::node_first_touch(int32_t index, const Frustum& frustum, double t_lo, double t_hi,
+                                  double radius) const {
+    const Node& node = nodes_[static_cast<size_t>(index)];
+    const double start = time_of(node.first_point), end = end_of(node.last_point);
+    if (end < t_lo || start > t_hi) return std::numeric_limits<double>::infinity();
+    const int side = frustum.classify_box(
+        {node.center[0], node.center[1], node.center[2]},
+        {Vec3{node.axes[0], node.axes[1], node.axes[2]}, Vec3{node.axes[3], node.axes[4], node.axes[5]},
+         Vec3{node.axes[6], node.axes[7], node.axes[8]}},
+        {node.half_extents[0], node.half_extents[1], node.half_extents[2]}, radius);
+    if (side < 0) return std::numeric_limits<double>::infinity();
+    // Wholly inside: the path touches from the first moment of the node within the window.
+    if (side > 0) return std::max(start, t_lo);
+    if (node.children[0] < 0) return segments_first_touch(node.first_point, node.last_point, frustum, t_lo, t_hi, radius);
+    // The first child holds the earlier part of the path.
+    const double early = node_first_touch(node.children[0], frustum, t_lo, t_hi, radius);
+    return std::isfinite(early) ? early : node_first_touch(node.children[1], frustum, t_lo, t_hi, radius);
+}
+
+double PathTree::first_touch_time(const Frustum& frustum, const TimeWindow& window, double radius) const {
+    if (nodes_.empty()) return -1;
+    const double lo = window.empty() ? -std::numeric_limits<double>::infinity() : window.lo_s;
+    const double hi = window.empty() ? std::numeric_limits<double>::infinity() : window.hi_s;
+    const double t = node_first_touch(0, frustum, lo, hi, radius);
+    return std::isfinite(t) ? t : -1;
+}
+
+double PathTree::first_touch_time_brute_force(const Frustum& frustum, const TimeWindow& window, double radius) const {
+    if (point_count() == 0) return -1;
+    const double lo = window.empty() ? -std::numeric_limits<double>::infinity() : window.lo_s;
+    const double hi = window.empty() ? std::numeric_limits<double>::infinity() : window.hi_s;
+    const double t = segments_first_touch(0, static_cast<uint32_t>(point_count() - 1), frustum, lo, hi, radius);
+    return std::isfinite(t) ? t : -1;
+}
+
 double PathTree::first_time_inside(const Frustum& frustum) const {
     for (size_t k = 0; k < point_count(); ++k) {
         const Vec3 p = point(k);

@@ -30,6 +30,12 @@ public:
     bool touches_brute_force(const Frustum& frustum, const TimeWindow& window, double radius) const;
     /// First time (seconds) the path is inside the frustum, or a negative value if never.
     double first_time_inside(const Frustum& frustum) const;
+    /// Earliest time (seconds) within `window` at which the path comes within `radius` of the
+    /// frustum, or a negative value if it does not: touches() with the moment it happens (between
+    /// samples the path is linear in time). Uses the tree, visiting earlier runs first.
+    double first_touch_time(const Frustum& frustum, const TimeWindow& window, double radius) const;
+    /// The same by testing every segment in order; for tests and benchmarks.
+    double first_touch_time_brute_force(const Frustum& frustum, const TimeWindow& window, double radius) const;
 
     size_t point_count() const { return points_.size() / 3; }
     /// Point k as stored: quantized to 16 bits per axis within the path's bounding box (about
@@ -58,6 +64,11 @@ private:
     bool node_touches(int32_t node, const Frustum& frustum, double u_lo, double u_hi, double radius) const;
     bool segments_touch(uint32_t first, uint32_t last, const Frustum& frustum, double t_lo, double t_hi,
                         double radius) const;
+    double node_first_touch(int32_t node, const Frustum& frustum, double t_lo, double t_hi, double radius) const;
+    /// Earliest touching time over segments first..last (and the held pose after the last point),
+    /// or +infinity.
+    double segments_first_touch(uint32_t first, uint32_t last, const Frustum& frustum, double t_lo, double t_hi,
+                                double radius) const;
 
     std::vector<uint16_t> points_;
     Vec3 origin_{0, 0, 0}, step_{0, 0, 0};

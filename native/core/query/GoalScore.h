@@ -1,0 +1,48 @@
+#pragma once
+// A goal is a list of query boxes, some of which must be met after another. How far a world's
+// paths get towards it: the boxes met, counted along the order, and how close it comes to the
+// first box it misses. The browser's ordered queries and the goal search both use this.
+#include <cstdint>
+#include <vector>
+
+#include "query/PathTree.h"
+
+namespace mwb {
+
+struct QueryBox;
+
+/// The boxes in the order they are met: every box after the one it must follow, otherwise in list
+/// order. Throws std::invalid_argument for an `after` that names no other box or an ordering cycle.
+std::vector<size_t> goal_order(const std::vector<QueryBox>& boxes);
+
+struct GoalScore {
+    /// Boxes met; an ordered box counts only when the box before it is met and it is met after it.
+    uint32_t boxes_met = 0;
+    std::vector<uint8_t> met;          ///< per box
+    std::vector<double> met_time_s;    ///< per met box: when (a negative box: when its window opened)
+    /// The first box in goal order that is not met, or -1 when all are.
+    int32_t first_unmet = -1;
+    /// How near the world came to that box, in [0, 1): a positive box 1 / (1 + d), d the least
+    /// view_relative_distance of its bodies' paths within its window; a negative box the share of
+    /// its window that no body spends inside. 0 when every box is met.
+    double closeness = 0;
+    /// Where the first unmet box went wrong: a positive box the moment of closest approach, a
+    /// negative one the first entry (seconds); and the bodies to blame: the one that came
+    /// nearest, or those that entered, earliest first.
+    double failure_time_s = 0;
+    std::vector<uint32_t> failing_bodies;
+    /// When that box's window opens, after the box it follows (seconds; 0 for the whole path).
+    double window_start_s = 0;
+
+    /// Orders worlds: more boxes first, then closer to the next one.
+    double value() const { return boxes_met + closeness; }
+};
+
+/// Scores one world given its body paths (one PathTree per scene body, empty for bodies it lacks)
+/// and each body's bounding radius (for swept boxes). `order` is goal_order(boxes). Without
+/// `with_closeness` only the met flags, times and count are computed (what a query needs).
+GoalScore score_goal(const std::vector<PathTree>& paths, const std::vector<double>& body_radii_m,
+                     const std::vector<QueryBox>& boxes, const std::vector<size_t>& order,
+                     bool with_closeness = true);
+
+}  // namespace mwb

@@ -1,0 +1,239 @@
+// Goals on hand-made paths: when a path first touches a box, the order of boxes, and how close a
+// world comes to the first box it misses.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "query/GoalScore.h"
+#include "query/PathIndex.h"
+#include "sim/PortableRandom.h"
+
+namespace mwb {
+namespace {
+
+const Matrix4 kIdentity{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+
+// Orthographic camera looking down -z at the square x, y in [-10, 10], depth 1..100: a screen
+// box (pixels of a 2000 px view) covers x in [x0, x1], y in [y0, y1].
+Frustum slab(double x0, double x1, double y0, double y1) {
+    const Matrix4 projection{0.1, 0, 0, 0, 0, 0.1, 0, 0, 0, 0, -2.0 / 99, -101.0 / 99, 0, 0, 0, 1};
+    return make_screen_frustum(kIdentity, projection, 2000, 2000, (x0 + 10) * 100, (y0 + 10) * 100, (x1 + 10) * 100,
+                               (y1 + 10) * 100);
+}
+
+QueryBox box(double x0, double x1, double y0, double y1, std::vector<uint32_t> bodies, int32_t after = -1,
+             bool negative = false) {
+    QueryBox b;
+    b.frustum = slab(x0, x1, y0, y1);
+    b.bodies = std::move(bodies);
+    b.after = after;
+    b.negative = negative;
+    return b;
+}
+
+// Paths are stored quantized to 1/65535 of their extent: times of entry are exact to about 1e-4 s.
+constexpr double kTimeTolerance = 1e-3;
+
+// A path through (x, y) waypoints at 1 waypoint per second, sampled at 30 Hz (stride 4 of 120 Hz).
+PathTree path_through(const std::vector<std::pair<double, double>>& waypoints) {
+    std::vector<float> points;
+    for (size_t w = 0; w + 1 < waypoints.size(); ++w)
+        for (int k = 0; k < 30; ++k) {
+            const double u = k / 30.0;
+            points.insert(points.end(), {static_cast<float>(waypoints[w].first * (1 - u) + waypoints[w + 1].first * u),
+                                         static_cast<float>(waypoints[w].second * (1 - u) + waypoints[w + 1].second * u),
+                                         -5.0f});
+        }
+    points.insert(points.end(), {static_cast<float>(waypoints.back().first), static_cast<float>(waypoints.back().second),
+                                 -5.0f});
+    const auto last_frame = static_cast<uint32_t>(120 * (waypoints.size() - 1));
+    return PathTree(points, 4, last_frame, 120);
+}
+
+TEST(Frustum, FirstTouchIsWhereTheSegmentEntersTheBox) {
+    const Frustum f = slab(0, 1, 0, 1);
+    EXPECT_NEAR(f.first_touch({-3, 0.5, -5}, {3, 0.5, -5}, 0, 1), 0.5, 1e-9);   // enters at x = 0
+    EXPECT_NEAR(f.first_touch({-3, 0.5, -5}, {3, 0.5, -5}, 0.6, 1), 0.6, 1e-9);  // already inside at 0.6
+    EXPECT_LT(f.first_touch({-3, 0.5, -5}, {3, 0.5, -5}, 0.7, 1), 0);          // left at x = 1 (u = 2/3)
+    EXPECT_NEAR(f.first_touch({-3, 0.5, -5}, {3, 0.5, -5}, 0, 1, 0.6), 0.4, 1e-9);  // a 0.6 m body reaches in sooner
+}
+
+TEST(Frustum, ViewRelativeDistanceCountsBoxSizes) {
+    const Frustum f = slab(0, 2, 0, 1);  // 2 m wide, 1 m high
+    EXPECT_DOUBLE_EQ(f.view_relative_distance({1, 0.5, -5}), 0);
+    EXPECT_NEAR(f.view_relative_distance({3, 0.5, -5}), 0.5, 1e-9);    // 1 m right: half a width
+    EXPECT_NEAR(f.view_relative_distance({1, 3, -5}), 2.0, 1e-9);      // 2 m above: two heights
+    EXPECT_NEAR(f.view_relative_distance({3, 3, -5}), 2.0, 1e-9);      // the larger of the two
+    EXPECT_NEAR(f.view_relative_distance({3, 0.5, -5}, 0.5), 0.25, 1e-9);  // a 0.5 m body is half as far
+}
+
+TEST(PathTree, FirstTouchTimeIsWhenThePathEnters) {
+    // From x = -5 at 1 m/s: enters x in [0, 1] at t = 5 s, leaves at 6 s.
+    const PathTree tree = path_through({{-5, 0.5}, {-4, 0.5}, {-3, 0.5}, {-2, 0.5}, {-1, 0.5}, {0, 0.5}, {1, 0.5},
+                                        {2, 0.5}, {3, 0.5}});
+    const Frustum f = slab(0, 1, 0, 1);
+    EXPECT_NEAR(tree.first_touch_time(f, {}, 0), 5.0, kTimeTolerance);
+    EXPECT_NEAR(tree.first_touch_time(f, {5.5, 9}, 0), 5.5, kTimeTolerance);
+    EXPECT_LT(tree.first_touch_time(f, {6.2, 9}, 0), 0);
+    EXPECT_LT(tree.first_touch_time(f, {0, 4.9}, 0), 0);
+    EXPECT_NEAR(tree.first_touch_time(f, {}, 0.5), 4.5, kTimeTolerance);  // swept: half a metre sooner
+}
+
+// Random walks and boxes: the tree's first touch is the brute force's, and it is the earliest:
+// nothing touches before it.
+TEST(PathTree, FirstTouchTimeEqualsBruteForceAndNothingTouchesEarlier) {
+    PortableRandom random(99);
+    int touching = 0, total = 0;
+    for (int trial = 0; trial < 200; ++trial) {
+        const size_t n = 2 + static_cast<size_t>(random.uniform(0, 300));
+        std::vector<float> points;
+        Vec3 p{random.uniform(-3, 3), random.uniform(-3, 3), -5};
+        for (size_t k = 0; k < n; ++k) {
+            for (int a = 0; a < 2; ++a) p[a] += random.uniform(-0.15, 0.15);
+            points.insert(points.end(), {static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2])});
+        }
+        const double hold = random.uniform01() < 0.5 ? 4.0 * (n - 1) / 120 + random.uniform(0, 5) : 0.0;
+        const PathTree tree(points, 4, static_cast<uint32_t>(4 * (n - 1)), 120, hold);
+        for (int b = 0; b < 20; ++b) {
+            const double x0 = random.uniform(-5, 2), y0 = random.uniform(-5, 2);
+            const Frustum f = slab(x0, x0 + random.uniform(0.3, 5), y0, y0 + random.uniform(0.3, 5));
+            TimeWindow window;
+            if (random.uniform01() < 0.5) {
+                const double t0 = random.uniform(0, 10);
+                window = {t0, t0 + random.uniform(0, 4)};
+            }
+            const double radius = random.uniform01() < 0.3 ? random.uniform(0, 0.5) : 0.0;
+            const double t = tree.first_touch_time(f, window, radius);
+            ASSERT_NEAR(t, tree.first_touch_time_brute_force(f, window, radius), 1e-9) << trial << " " << b;
+            ASSERT_EQ(t >= 0, tree.touches(f, window, radius));
+            if (t > 0 && t - 1e-6 > (window.empty() ? 0.0 : window.lo_s)) {
+                const TimeWindow before{window.empty() ? 0.0 : window.lo_s, t - 1e-6};
+                ASSERT_FALSE(tree.touches(f, before, radius)) << trial << " " << b;
+            }
+            touching += t >= 0;
+            ++total;
+        }
+    }
+    EXPECT_GT(touching, total / 10);
+    EXPECT_LT(touching, total * 9 / 10);
+}
+
+TEST(GoalOrder, FollowsAfterAndRefusesCyclesAndBadReferences) {
+    std::vector<QueryBox> boxes{box(0, 1, 0, 1, {0}, 2), box(0, 1, 0, 1, {0}, 0), box(0, 1, 0, 1, {0})};
+    EXPECT_EQ(goal_order(boxes), (std::vector<size_t>{2, 0, 1}));
+    boxes[2].after = 1;  // 0 -> 1 -> 2 -> 0
+    EXPECT_THROW(goal_order(boxes), std::invalid_argument);
+    boxes[2].after = 2;
+    EXPECT_THROW(goal_order(boxes), std::invalid_argument);
+    boxes[2].after = 7;
+    EXPECT_THROW(goal_order(boxes), std::invalid_argument);
+    // Unordered boxes keep the list's order.
+    EXPECT_EQ(goal_order({box(0, 1, 0, 1, {0}), box(0, 1, 0, 1, {0})}), (std::vector<size_t>{0, 1}));
+}
+
+// Three cups in a row at x = 2, 4, 6; the marble must tip them in turn.
+std::vector<QueryBox> three_cups() {
+    return {box(1.5, 2.5, 0, 1, {0}), box(3.5, 4.5, 0, 1, {0}, 0), box(5.5, 6.5, 0, 1, {0}, 1)};
+}
+
+TEST(GoalScore, OrderedBoxesCountOnlyInTurn) {
+    const std::vector<QueryBox> cups = three_cups();
+    const std::vector<size_t> order = goal_order(cups);
+    const std::vector<double> radii{0.1};
+    // In turn: cup 1 at t = 1, cup 2 at t = 2, cup 3 at t = 3.
+    GoalScore s = score_goal({path_through({{0, 0.5}, {2, 0.5}, {4, 0.5}, {6, 0.5}})}, radii, cups, order);
+    EXPECT_EQ(s.boxes_met, 3u);
+    EXPECT_EQ(s.first_unmet, -1);
+    EXPECT_NEAR(s.met_time_s[1], 2.0 - 0.5 / 2, kTimeTolerance);  // enters cup 2's box at x = 3.5
+    // Cup 3 first (t = 1), then cups 1 and 2: only cups 1 and 2 count.
+    s = score_goal({path_through({{4, 3}, {6, 0.5}, {6, 3}, {2, 0.5}, {4, 0.5}, {4, 3}})}, radii, cups, order);
+    EXPECT_EQ(s.boxes_met, 2u);
+    EXPECT_EQ(s.first_unmet, 2);
+    // Cup 2 without cup 1: nothing counts, the first unmet box is cup 1.
+    s = score_goal({path_through({{4, 3}, {4, 0.5}, {6, 0.5}})}, radii, cups, order);
+    EXPECT_EQ(s.boxes_met, 0u);
+    EXPECT_EQ(s.first_unmet, 0);
+    // Without the order, the same path meets cups 2 and 3.
+    std::vector<QueryBox> unordered = three_cups();
+    for (QueryBox& b : unordered) b.after = -1;
+    s = score_goal({path_through({{4, 3}, {4, 0.5}, {6, 0.5}})}, radii, unordered, goal_order(unordered));
+    EXPECT_EQ(s.boxes_met, 2u);
+    EXPECT_EQ(s.first_unmet, 0);
+}
+
+TEST(GoalScore, ClosenessOfAPositiveBoxIsTheNearestApproachInBoxSizes) {
+    const std::vector<QueryBox> goal{box(0, 1, 0, 1, {0, 1})};
+    // Body 0 passes 2 m above the box (two box heights) at t = 1; body 1 passes 0.5 m to its
+    // right at t = 2: the nearest, half a box width.
+    GoalScore s = score_goal({path_through({{-2, 3}, {0.5, 3}, {4, 3}}), path_through({{3, 0.5}, {3, 0.5}, {1.5, 0.5}, {3, 0.5}})},
+                             {0.1, 0.1}, goal, goal_order(goal));
+    EXPECT_EQ(s.boxes_met, 0u);
+    EXPECT_NEAR(s.closeness, 1 / 1.5, 1e-3);
+    EXPECT_NEAR(s.failure_time_s, 2.0, kTimeTolerance);
+    EXPECT_EQ(s.failing_bodies, (std::vector<uint32_t>{1}));
+    // Nearer is closer, and a met box always counts for more than any closeness.
+    const GoalScore nearer = score_goal({path_through({{-2, 3}, {0.5, 1.2}, {4, 3}}), path_through({{3, 0.5}, {3, 0.5}})},
+                                        {0.1, 0.1}, goal, goal_order(goal));
+    EXPECT_GT(nearer.closeness, s.closeness);
+    const GoalScore met = score_goal({path_through({{-2, 3}, {0.5, 0.5}, {4, 3}}), path_through({{3, 0.5}, {3, 0.5}})},
+                                     {0.1, 0.1}, goal, goal_order(goal));
+    EXPECT_EQ(met.boxes_met, 1u);
+    EXPECT_GT(met.value(), nearer.value());
+    EXPECT_LT(nearer.value(), 1.0);
+}
+
+TEST(GoalScore, ClosenessOfANegativeBoxIsHowBrieflyThePathStaysInside) {
+    std::vector<QueryBox> goal{box(0, 1, 0, 1, {0, 1}, -1, true)};
+    goal[0].window = {0, 4};
+    // Body 1 enters at t = 2 (x = 0) and stays to the end (t = 4): inside for half the window.
+    // Body 0 enters later, at t = 3.
+    GoalScore s = score_goal({path_through({{5, 0.5}, {5, 0.5}, {5, 0.5}, {0.5, 0.5}, {0.5, 0.5}}),
+                              path_through({{-4, 0.5}, {-2, 0.5}, {0, 0.5}, {0.5, 0.5}, {0.5, 0.5}})},
+                             {0.1, 0.1}, goal, goal_order(goal));
+    EXPECT_EQ(s.boxes_met, 0u);
+    EXPECT_NEAR(s.closeness, 0.5, 0.02);
+    EXPECT_NEAR(s.failure_time_s, 2.0, kTimeTolerance);
+    EXPECT_EQ(s.failing_bodies, (std::vector<uint32_t>{1, 0}));
+    // Inside only briefly: closer to meeting it.
+    const GoalScore brief = score_goal({path_through({{5, 0.5}, {5, 0.5}, {5, 0.5}, {5, 0.5}, {5, 0.5}}),
+                                        path_through({{-4, 0.5}, {-2, 0.5}, {-0.5, 0.5}, {0.5, 0.5}, {4, 0.5}})},
+                                       {0.1, 0.1}, goal, goal_order(goal));
+    EXPECT_GT(brief.closeness, 0.8);
+    EXPECT_LT(brief.closeness, 1.0);
+}
+
+TEST(PathIndex, OrderedQueriesCountAlongTheOrder) {
+    PathIndex index({0.1});
+    auto world = [](uint64_t w, std::vector<std::pair<double, double>> waypoints) {
+        IndexedWorldInput in;
+        in.world_index = w;
+        in.stride = 4;
+        in.last_frame = static_cast<uint32_t>(120 * (waypoints.size() - 1));
+        in.record_hz = 120;
+        std::vector<float> points;
+        for (size_t k = 0; k < waypoints.size(); ++k)
+            points.insert(points.end(), {static_cast<float>(waypoints[k].first), static_cast<float>(waypoints[k].second), -5.0f});
+        // One point per second: stride 120 frames.
+        in.stride = 120;
+        in.polylines = {points};
+        in.final_orientations = {Quat{1, 0, 0, 0}};
+        return in;
+    };
+    std::vector<IndexedWorldInput> worlds;
+    worlds.push_back(world(0, {{0, 0.5}, {2, 0.5}, {4, 0.5}, {6, 0.5}}));          // in turn
+    worlds.push_back(world(1, {{6, 0.5}, {6, 3}, {2, 0.5}, {4, 0.5}, {4, 3}}));    // cup 3 too early
+    index.add_worlds(std::move(worlds), 1);
+    const QueryResult ordered = index.query(three_cups());
+    EXPECT_EQ(ordered.boxes_satisfied, (std::vector<uint32_t>{3, 2}));
+    EXPECT_EQ(ordered.matching, (std::vector<uint64_t>{0}));
+    std::vector<QueryBox> unordered = three_cups();
+    for (QueryBox& b : unordered) b.after = -1;
+    EXPECT_EQ(index.query(unordered).matching, (std::vector<uint64_t>{0, 1}));
+    std::vector<QueryBox> cyclic = three_cups();
+    cyclic[0].after = 2;
+    EXPECT_THROW(index.query(cyclic), std::invalid_argument);
+    EXPECT_EQ(index.score(1, three_cups(), goal_order(three_cups())).first_unmet, 2);
+}
+
+}  // namespace
+}  // namespace mwb
