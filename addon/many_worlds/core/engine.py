@@ -4,12 +4,15 @@ Bulk sampling never runs ODE inside Blender: a crash or a long run stays in the 
 thread drains stderr (progress lines) and stdout so the child never blocks on a full pipe; the
 caller polls `progress()` and `finished()` from a timer.
 """
+import json
 import signal
 import subprocess
 import threading
 from dataclasses import dataclass
+from typing import Tuple
 
 PROGRESS_TAG = "MWB-PROGRESS"
+SEEK_TAG = "MWB-SEEK"
 
 
 def parse_progress(line):
@@ -22,6 +25,87 @@ def parse_progress(line):
         except ValueError:
             return None
     return None
+
+
+@dataclass(frozen=True)
+class SeekProgress:
+    """Where a seek stands after a batch of worlds."""
+    boxes_met: int          # by the best world so far
+    box_count: int
+    worlds_made: int        # by this seek so far
+    best_world: int         # -1 while there is none
+    worlds_meeting_goal: int
+
+
+def parse_seek_progress(line):
+    """'MWB-SEEK 5 6 3120 418 0' -> SeekProgress(5, 6, 3120, 418, 0); anything else -> None."""
+    parts = line.split()
+    if len(parts) < 6 or parts[0] != SEEK_TAG:
+        return None
+    try:
+        return SeekProgress(*(int(v) for v in parts[1:6]))
+    except ValueError:
+        return None
+
+
+def seek_progress_text(progress):
+    """'best 5 of 6 boxes (world 418), 3,120 worlds made', and how many meet the goal once some do."""
+    best = f" (world {progress.best_world})" if progress.best_world >= 0 else ""
+    text = (f"best {progress.boxes_met} of {progress.box_count} boxes{best}, "
+            f"{progress.worlds_made:,} worlds made")
+    if progress.worlds_meeting_goal:
+        text += f", {progress.worlds_meeting_goal:,} meet all"
+    return text
+
+
+@dataclass(frozen=True)
+class SeekOutcome:
+    """How a seek ended: `mwb-engine seek --json` prints it as one JSON object."""
+    reached: bool
+    found: Tuple[int, ...]   # worlds meeting every box
+    best: int                # the world meeting the most boxes (-1: none)
+    best_boxes_met: int
+    boxes: int
+    worlds_made: int
+    seconds: float
+
+
+def parse_seek_outcome(text):
+    """The SeekOutcome of `mwb-engine seek --json`'s output, or None when it printed none (a
+    cancelled or failed run may end without one)."""
+    for line in reversed(text.strip().splitlines()):
+        try:
+            data = json.loads(line)
+        except ValueError:
+            continue
+        if isinstance(data, dict) and "reached" in data:
+            return SeekOutcome(reached=bool(data["reached"]), found=tuple(int(w) for w in data.get("found", [])),
+                               best=int(data.get("best", -1)), best_boxes_met=int(data.get("best_boxes_met", 0)),
+                               boxes=int(data.get("boxes", 0)), worlds_made=int(data.get("worlds_made", 0)),
+                               seconds=float(data.get("seconds", 0.0)))
+    return None
+
+
+def _world_list(worlds, limit=8):
+    shown = ", ".join(str(w) for w in worlds[:limit])
+    return shown + (f" and {len(worlds) - limit} more" if len(worlds) > limit else "")
+
+
+def seek_outcome_text(outcome, want):
+    """One line on how a seek ended, e.g. 'Goal reached: 3 worlds meet all 6 boxes (412, 415, 430);
+    1,204 worlds made in 61.2 s' or 'Budget spent: best world 418 meets 5 of 6 boxes; ...'."""
+    made = f"{outcome.worlds_made:,} worlds made in {outcome.seconds:.1f} s"
+    found = list(outcome.found)
+    noun = "world meets" if len(found) == 1 else "worlds meet"
+    if outcome.reached:
+        return f"Goal reached: {len(found)} {noun} all {outcome.boxes} boxes ({_world_list(found)}); {made}"
+    if found:
+        return (f"Budget spent: {len(found)} {noun} all {outcome.boxes} boxes ({_world_list(found)}) of "
+                f"{want} wanted; {made}")
+    if outcome.best < 0:
+        return f"Budget spent: no world meets any of the {outcome.boxes} boxes; {made}"
+    return (f"Budget spent: best world {outcome.best} meets {outcome.best_boxes_met} of {outcome.boxes} "
+            f"boxes; {made}")
 
 
 @dataclass(frozen=True)
@@ -97,6 +181,22 @@ def change_bodies_command(engine, library, world, add_names, remove_names, scene
     return argv
 
 
+def seek_command(engine, library, goal, want, budget_worlds, budget_s=0.0, seed=None, threads=0, as_json=False):
+    """The argument list of one `mwb-engine seek` run: refine the worlds of `library` (appending to
+    it) until `want` worlds meet the goal file `goal`, within `budget_worlds` new worlds and, when
+    `budget_s` > 0, that many seconds. `seed`: the engine's when None; `as_json`: the summary as
+    one JSON object (SeekOutcome) instead of a line for people."""
+    argv = [engine, "seek", "--library", library, "--goal", goal, "--want", str(int(want)),
+            "--budget-worlds", str(int(budget_worlds)), "--threads", str(int(threads or 0)), "--progress"]
+    if budget_s and budget_s > 0:
+        argv += ["--budget-s", repr(float(budget_s))]
+    if seed is not None:
+        argv += ["--seed", str(int(seed))]
+    if as_json:
+        argv.append("--json")
+    return argv
+
+
 class EngineRun:
     """One running `mwb-engine` child. Thread-safe to poll from the UI thread."""
 
@@ -106,6 +206,7 @@ class EngineRun:
         self._done = 0
         self._total = 0
         self._last_world = -1
+        self._seek = None
         self._messages = []
         self._stdout = ""
         self.cancel_requested = False
@@ -117,9 +218,12 @@ class EngineRun:
     def _read(self):
         for line in self._process.stderr:
             progress = parse_progress(line)
+            seek = parse_seek_progress(line)
             with self._lock:
                 if progress:
                     self._done, self._total, self._last_world = progress
+                elif seek:
+                    self._seek = seek
                 elif line.strip():
                     self._messages.append(line.rstrip("\n"))
         out = self._process.stdout.read()
@@ -134,6 +238,11 @@ class EngineRun:
         """(worlds finished, worlds to do, index of the last finished world or -1)."""
         with self._lock:
             return self._done, self._total, self._last_world
+
+    def seek_progress(self):
+        """The last SeekProgress of a seek run, or None before its first batch."""
+        with self._lock:
+            return self._seek
 
     def finished(self):
         """True once the child exited and its output was read."""

@@ -28,7 +28,8 @@ class BoxSpec:
 
     view, projection: (4, 4) row-major world-to-camera and camera-to-clip matrices (OpenGL);
     size: region (width, height) in pixels; rect: (x0, y0, x1, y1) pixels from the region's
-    bottom-left; bodies: scene body indices; time_window: (start_s, end_s) or None.
+    bottom-left; bodies: scene body indices; time_window: (start_s, end_s) or None; after: the
+    position, in the same list of boxes, of the box this one is met after (-1: no order).
     """
     view: np.ndarray
     projection: np.ndarray
@@ -38,11 +39,45 @@ class BoxSpec:
     bodies: Tuple[int, ...] = ()
     time_window: Optional[Tuple[float, float]] = None
     swept: bool = False
+    after: int = -1
 
 
 def normalized_rect(x0, y0, x1, y1):
     """(min x, min y, max x, max y) of a rectangle dragged in any direction."""
     return min(x0, x1), min(y0, y1), max(x0, x1), max(y0, y1)
+
+
+def order_among(afters, kept):
+    """The order of the boxes that are passed on, by their positions in the passed list.
+
+    afters: per box of the whole list, the position of the box it is met after (-1: none); kept:
+    per box, whether it is passed on (enabled, and testing bodies the library has). Returns the
+    `after` of each kept box, in order, counted among the kept boxes; a box whose predecessor is
+    not kept has no order.
+    """
+    position = {}
+    for k, keep in enumerate(kept):
+        if keep:
+            position[k] = len(position)
+    return [position.get(afters[k], -1) for k in position]
+
+
+def order_after_removing(afters, removed):
+    """The afters (as in order_among) of the boxes left once box `removed` is deleted: later boxes
+    move up one place, and a box met after the deleted one has no order any more."""
+    return [-1 if a == removed else a - (a > removed) for k, a in enumerate(afters) if k != removed]
+
+
+def closes_order_cycle(afters, box, candidate):
+    """Whether making `box` met after `candidate` would order a box after itself, directly or
+    through the boxes `candidate` is met after (afters: as in order_among)."""
+    seen = set()
+    while 0 <= candidate < len(afters) and candidate not in seen:
+        if candidate == box:
+            return True
+        seen.add(candidate)
+        candidate = afters[candidate]
+    return False
 
 
 def match_count_text(matching, total):
@@ -93,15 +128,18 @@ class LibraryQuery:
         return self.index.add_library(self.view.library)
 
     def native_box(self, spec):
+        """The module's QueryBox of a BoxSpec; its `after` counts in the list it is queried with."""
+        ordered = {"after": int(spec.after)} if spec.after >= 0 else {}
         return self.native.QueryBox(
             np.asarray(spec.view, dtype=np.float64).reshape(4, 4),
             np.asarray(spec.projection, dtype=np.float64).reshape(4, 4),
             (float(spec.size[0]), float(spec.size[1])), tuple(float(v) for v in spec.rect),
             negative=bool(spec.negative), bodies=list(spec.bodies),
-            time_window=spec.time_window, swept=bool(spec.swept))
+            time_window=spec.time_window, swept=bool(spec.swept), **ordered)
 
     def evaluate(self, specs: Sequence[BoxSpec]):
-        """Run the boxes (AND) and store the match flags in the view. Returns a QueryResult.
+        """Run the boxes (AND; an ordered box counts when met after its predecessor) and store the
+        match flags in the view. Returns a QueryResult. Raises ValueError for an ordering cycle.
 
         Each evaluation posts a new generation first, so a query still running for an older box
         set (from another thread) stops early instead of finishing work nobody will read.

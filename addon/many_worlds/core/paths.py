@@ -51,3 +51,9 @@ def added_scene_json_path(library_path):
     'shot.added.scene.json' (each addition rewrites it; the library keeps what it added)."""
     root, _ = os.path.splitext(library_path)
     return root + ".added.scene.json"
+
+
+def goal_json_path(library_path):
+    """The goal of the library's last seek sits next to it: 'shot.mwb' -> 'shot.goal.json'."""
+    root, _ = os.path.splitext(library_path)
+    return root + ".goal.json"

@@ -1,0 +1,107 @@
+"""The goal of a seek without Blender: boxes in their order (which box is met after which, also
+once some are left out or deleted), the goal file the engine reads, the seek's command, progress
+lines and summary."""
+import json
+
+import numpy as np
+import pytest
+
+from many_worlds.core import engine, goal
+from many_worlds.core.library_query import BoxSpec, closes_order_cycle, order_after_removing, order_among
+
+VIEW = np.arange(16, dtype=np.float64).reshape(4, 4) / 7
+PROJECTION = np.eye(4) * 1.5
+
+
+def box(rect=(10, 20, 110, 220), after=-1, **fields):
+    return BoxSpec(view=VIEW, projection=PROJECTION, size=(1600, 1000), rect=rect, bodies=(2, 4), after=after,
+                   **fields)
+
+
+def test_a_goal_file_reads_back_as_the_boxes_it_was_written_from(tmp_path):
+    specs = [box(), box((0.5, 1.5, 30.25, 40), negative=True, swept=True, time_window=(1.0, 2.5)),
+             box((5, 5, 6, 6), after=0)]
+    path = goal.write_goal(str(tmp_path / "shot.goal.json"), specs)
+    again = goal.read_goal(path)
+    assert len(again) == 3
+    for written, read in zip(specs, again):
+        assert np.array_equal(read.view, written.view) and np.array_equal(read.projection, written.projection)
+        assert (read.size, read.rect, read.negative, read.bodies, read.time_window, read.swept, read.after) == (
+            written.size, written.rect, written.negative, written.bodies, written.time_window, written.swept,
+            written.after)
+
+
+def test_the_goal_file_has_the_engines_fields_row_major_and_the_order_by_position(tmp_path):
+    specs = [box(after=2), box(), box(time_window=(3.0, 4.0), after=1)]
+    document = json.loads(open(goal.write_goal(str(tmp_path / "g.json"), specs)).read())
+    boxes = document["boxes"]
+    assert [b["after"] for b in boxes] == [2, None, 1]
+    first = boxes[0]
+    assert set(first) == {"view", "projection", "viewport", "rect", "bodies", "negative", "swept", "time_window",
+                          "after"}
+    # Row-major: the second number is the first row's second column.
+    assert first["view"][1] == VIEW[0, 1] and first["view"][4] == VIEW[1, 0] and len(first["projection"]) == 16
+    assert first["viewport"] == [1600, 1000] and first["rect"] == [10, 20, 110, 220] and first["bodies"] == [2, 4]
+    assert first["time_window"] is None and boxes[2]["time_window"] == [3.0, 4.0]
+
+
+@pytest.mark.parametrize("specs,phrase", [
+    ([], "a goal needs at least one box"),
+    ([box(), box(after=1)], "box 2 is to be met after itself"),
+    ([box(after=2), box()], "box 1 is to be met after box 3, but the goal has 2 boxes"),
+    ([BoxSpec(view=VIEW, projection=PROJECTION, size=(10, 10), rect=(0, 0, 1, 1))], "box 1 tests no bodies"),
+])
+def test_a_goal_that_cannot_be_met_is_refused_before_the_engine_starts(tmp_path, specs, phrase):
+    with pytest.raises(ValueError, match=phrase):
+        goal.write_goal(str(tmp_path / "g.json"), specs)
+    assert not (tmp_path / "g.json").exists()
+
+
+def test_the_order_counts_among_the_boxes_passed_on():
+    # Boxes 0..4; box 1 is disabled. Box 2 after 0, box 3 after 1 (left out: unordered), box 4 after 3.
+    afters = [-1, -1, 0, 1, 3]
+    assert order_among(afters, [True, False, True, True, True]) == [-1, 0, -1, 2]
+    assert order_among(afters, [True] * 5) == afters
+    assert order_among(afters, [False] * 5) == []
+
+
+def test_deleting_a_box_keeps_the_order_of_the_others():
+    afters = [-1, 0, 1, 0, 2]
+    # Box 1 goes: box 2 (after it) loses its order, box 4 (after box 2, now box 1) follows it down.
+    assert order_after_removing(afters, 1) == [-1, -1, 0, 1]
+    assert order_after_removing(afters, 0) == [-1, 0, -1, 1]
+    assert order_after_removing(afters, 4) == [-1, 0, 1, 0]
+
+
+def test_an_order_that_would_close_a_cycle_is_recognised():
+    afters = [-1, 0, 1, -1]   # 2 after 1 after 0
+    assert closes_order_cycle(afters, 0, 2) and closes_order_cycle(afters, 0, 1) and closes_order_cycle(afters, 1, 1)
+    assert not closes_order_cycle(afters, 2, 0) and not closes_order_cycle(afters, 0, 3)
+    assert not closes_order_cycle(afters, 3, -1)
+
+
+def test_seek_command_progress_and_summary():
+    argv = engine.seek_command("/e", "l.mwb", "l.goal.json", 3, 2000, threads=2)
+    assert argv[:6] == ["/e", "seek", "--library", "l.mwb", "--goal", "l.goal.json"]
+    assert argv[argv.index("--want") + 1] == "3" and argv[argv.index("--budget-worlds") + 1] == "2000"
+    assert argv[argv.index("--threads") + 1] == "2" and "--progress" in argv
+    assert "--budget-s" not in argv and "--seed" not in argv and "--json" not in argv
+    argv = engine.seek_command("/e", "l.mwb", "g", 1, 10, budget_s=60, seed=4, as_json=True)
+    assert argv[argv.index("--budget-s") + 1] == "60.0" and argv[argv.index("--seed") + 1] == "4" and "--json" in argv
+
+    progress = engine.parse_seek_progress("MWB-SEEK 5 6 3120 418 0\n")
+    assert progress == engine.SeekProgress(5, 6, 3120, 418, 0)
+    assert engine.seek_progress_text(progress) == "best 5 of 6 boxes (world 418), 3,120 worlds made"
+    assert engine.parse_seek_progress("MWB-PROGRESS 3 10") is None and engine.parse_seek_progress("MWB-SEEK 1") is None
+    assert engine.parse_progress("MWB-SEEK 5 6 3120 418 0") is None
+
+    reached = engine.parse_seek_outcome('{"reached": true, "found": [412, 415, 430], "best": 412, '
+                                        '"best_boxes_met": 6, "boxes": 6, "worlds_made": 1204, "seconds": 61.2}\n')
+    assert reached.found == (412, 415, 430) and reached.best == 412
+    assert engine.seek_outcome_text(reached, 3) == ("Goal reached: 3 worlds meet all 6 boxes (412, 415, 430); "
+                                                    "1,204 worlds made in 61.2 s")
+    spent = engine.parse_seek_outcome('{"reached": false, "found": [], "best": 418, "best_boxes_met": 5, '
+                                      '"boxes": 6, "worlds_made": 2000, "seconds": 80.0}')
+    assert engine.seek_outcome_text(spent, 1) == ("Budget spent: best world 418 meets 5 of 6 boxes; "
+                                                  "2,000 worlds made in 80.0 s")
+    assert engine.parse_seek_outcome("seek: budget spent; best world 418 meets 5 of 6 boxes") is None
