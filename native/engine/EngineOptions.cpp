@@ -61,13 +61,15 @@ const char* engine_usage() {
            "  mwb-engine refine --library LIB.mwb --world W [--add NAME,...] [--update NAME,...] [--scene SCENE.json]\n"
            "                    [--remove NAME,...]\n"
            "                    [--count N] [--first-child K] [--threads T] [--progress]\n"
+           "  mwb-engine seek --library LIB.mwb --goal GOAL.json --budget-worlds N [--want K] [--budget-s SECONDS]\n"
+           "                  [--seed S] [--threads T] [--progress] [--json]\n"
            "  mwb-engine info LIB.mwb [--json]\n"
            "  mwb-engine merge OUT.mwb LIB.mwb...\n"
            "  mwb-engine validate SCENE.json\n";
 }
 
 EngineOptions parse_engine_options(const std::vector<std::string>& args) {
-    if (args.empty()) throw UsageError("no command given (sample, refine, info, merge or validate)");
+    if (args.empty()) throw UsageError("no command given (sample, refine, seek, info, merge or validate)");
     EngineOptions options;
     options.command = args[0];
     std::vector<std::string> positional;
@@ -95,6 +97,10 @@ EngineOptions parse_engine_options(const std::vector<std::string>& args) {
         else if (flag == "--world-time-limit") options.world_time_limit_s = parse_number(flag, value());
         else if (flag == "--json") options.json = true;
         else if (flag == "--library") options.output_path = value();
+        else if (flag == "--goal") options.goal_path = value();
+        else if (flag == "--want") options.want = parse_count(flag, value());
+        else if (flag == "--budget-worlds") options.budget_worlds = parse_count(flag, value());
+        else if (flag == "--budget-s") options.budget_s = parse_number(flag, value());
         else if (flag == "--world") options.parent_world = parse_count(flag, value());
         else if (flag == "--time") options.branch_time_s = parse_number(flag, value());
         else if (flag == "--first-child") options.first_child = static_cast<int64_t>(parse_count(flag, value()));
@@ -132,6 +138,11 @@ EngineOptions parse_engine_options(const std::vector<std::string>& args) {
             if (options.branch_time_s < 0) throw UsageError("refine needs --time (seconds, >= 0)");
         }
         if (options.world_count == 0) throw UsageError("--count must be at least 1");
+    } else if (options.command == "seek") {
+        if (options.output_path.empty() || options.goal_path.empty()) throw UsageError("seek needs --library and --goal");
+        if (options.budget_worlds == 0) throw UsageError("seek needs --budget-worlds of at least 1");
+        if (options.want == 0) throw UsageError("--want must be at least 1");
+        if (options.budget_s < 0) throw UsageError("--budget-s must not be negative");
     } else if (options.command == "info" || options.command == "validate") {
         if (positional.size() != 1) throw UsageError(options.command + " takes exactly one file");
         options.inputs = positional;
@@ -140,10 +151,10 @@ EngineOptions parse_engine_options(const std::vector<std::string>& args) {
         options.output_path = positional[0];
         options.inputs.assign(positional.begin() + 1, positional.end());
     } else {
-        throw UsageError("unknown command '" + options.command + "' (sample, refine, info, merge or validate)");
+        throw UsageError("unknown command '" + options.command + "' (sample, refine, seek, info, merge or validate)");
     }
     if (options.command != "sample" && options.command != "worker" && options.command != "merge" &&
-        options.command != "refine" &&
+        options.command != "refine" && options.command != "seek" &&
         !options.output_path.empty())
         throw UsageError("--out is only for sample");
     return options;

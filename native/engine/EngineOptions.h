@@ -17,7 +17,7 @@ struct UsageError : std::runtime_error {
 };
 
 struct EngineOptions {
-    std::string command;  ///< sample | refine | info | merge | validate | worker (internal)
+    std::string command;  ///< sample | refine | seek | info | merge | validate | worker (internal)
     std::string scene_path;
     std::string output_path;
     std::vector<std::string> inputs;
@@ -33,6 +33,10 @@ struct EngineOptions {
     std::vector<std::string> add_bodies;     ///< refine: bodies of --scene to add to the world
     std::vector<std::string> remove_bodies;  ///< refine: objects to remove from the world
     std::vector<std::string> update_bodies;  ///< refine: objects of the world to redefine from --scene
+    std::string goal_path;              ///< seek: the goal's boxes (JSON)
+    uint64_t want = 1;                  ///< seek: worlds meeting the goal to find
+    uint64_t budget_worlds = 0;         ///< seek: at most this many worlds made
+    double budget_s = 0;                ///< seek: and at most this long (0: no limit)
     bool progress = false;
     bool dry_run = false;               ///< sample: say whether --out holds this run, write nothing
     bool in_process = false;            ///< sample: simulate in this process, not in supervised workers

@@ -26,6 +26,8 @@
 #include "refine/StoredWorldRefinement.h"
 #include "sampler/Sampler.h"
 #include "scene/SceneJson.h"
+#include "seek/GoalJson.h"
+#include "seek/GoalSearch.h"
 #include "sim/WorldSimulator.h"
 
 namespace mwb {
@@ -151,6 +153,70 @@ int run_refine(const EngineOptions& options) {
     return g_progress.cancel ? 130 : 0;
 }
 
+std::string with_commas(uint64_t n) {
+    std::string digits = std::to_string(n), out;
+    for (size_t k = 0; k < digits.size(); ++k) {
+        if (k && (digits.size() - k) % 3 == 0) out += ',';
+        out += digits[k];
+    }
+    return out;
+}
+
+// Searches the library for worlds meeting a goal (see GoalSearch.h), appending every world it
+// makes; progress lines let a front end show the best world as it improves.
+int run_seek(const EngineOptions& options) {
+    std::ifstream goal_file(options.goal_path);
+    if (!goal_file) throw GoalError("cannot read the goal file " + options.goal_path);
+    const std::string goal_text((std::istreambuf_iterator<char>(goal_file)), std::istreambuf_iterator<char>());
+    SeekRequest request;
+    {
+        const LibraryReader reader(options.output_path);
+        request.boxes = goal_from_json(goal_text, scene_from_json(reader.scene_json()));
+    }
+    request.want = options.want;
+    request.budget_worlds = options.budget_worlds;
+    request.budget_s = options.budget_s;
+    request.seed = options.base_seed;
+    request.threads = options.threads;
+    std::signal(SIGINT, request_cancel);
+    std::signal(SIGTERM, request_cancel);
+    const SeekOutcome outcome = seek_goal(
+        options.output_path, request,
+        [&](const SeekStatus& s) {
+            if (!options.progress) return;
+            std::cerr << "MWB-SEEK " << s.best_boxes_met << " " << s.box_count << " " << s.worlds_made << " "
+                      << s.best_world << " " << s.worlds_meeting_goal << "\n";
+            std::cerr.flush();
+        },
+        &g_progress);
+    if (options.json) {
+        nlohmann::json j{{"reached", outcome.reached},         {"found", outcome.found},
+                         {"best", outcome.best_world},         {"best_boxes_met", outcome.best_boxes_met},
+                         {"boxes", outcome.box_count},         {"worlds_made", outcome.worlds_made},
+                         {"refinements", outcome.refinements}, {"seconds", outcome.seconds},
+                         {"cancelled", outcome.cancelled}};
+        std::cout << j.dump() << "\n";
+    } else {
+        std::ostringstream made;
+        made.precision(1);
+        made << std::fixed << " (" << with_commas(outcome.worlds_made) << " worlds made in " << outcome.seconds << " s)";
+        if (outcome.reached) {
+            std::cout << "seek: " << outcome.found.size() << (outcome.found.size() == 1 ? " world meets" : " worlds meet")
+                      << " all " << outcome.box_count << " boxes:";
+            for (size_t k = 0; k < outcome.found.size() && k < 20; ++k) std::cout << (k ? ", " : " ") << outcome.found[k];
+            if (outcome.found.size() > 20) std::cout << ", ...";
+            std::cout << made.str() << "\n";
+        } else {
+            std::cout << "seek: " << (outcome.cancelled ? "cancelled" : "budget spent") << "; best world "
+                      << outcome.best_world << " meets " << outcome.best_boxes_met << " of " << outcome.box_count
+                      << " boxes";
+            if (!outcome.found.empty()) std::cout << " (" << outcome.found.size() << " of " << options.want << " wanted found)";
+            std::cout << made.str() << "\n";
+        }
+    }
+    return outcome.cancelled ? 130 : 0;
+}
+
 int run_info(const EngineOptions& options) {
     const LibraryReader reader(options.inputs[0]);
     const Scene scene = scene_from_json(reader.scene_json());
@@ -213,6 +279,7 @@ int run(const std::vector<std::string>& args) {
     if (options.command == "sample") return run_sample(options, args);
     if (options.command == "worker") return run_world_worker(options);
     if (options.command == "refine") return run_refine(options);
+    if (options.command == "seek") return run_seek(options);
     if (options.command == "info") return run_info(options);
     if (options.command == "merge") return run_merge(options);
     return run_validate(options);
@@ -229,6 +296,9 @@ int main(int argc, char** argv) {
         std::cerr << "mwb-engine: " << error.what() << "\n" << mwb::engine_usage();
         return 2;
     } catch (const mwb::RefineError& error) {
+        std::cerr << "mwb-engine: " << error.what() << "\n";
+        return 2;
+    } catch (const mwb::GoalError& error) {
         std::cerr << "mwb-engine: " << error.what() << "\n";
         return 2;
     } catch (const mwb::SceneError& error) {

@@ -8,6 +8,7 @@
 #include "query/PathIndex.h"
 #include "query/RankingMetrics.h"
 #include "scene/SceneJson.h"
+#include "seek/WorldIndexing.h"
 
 namespace py = pybind11;
 
@@ -54,29 +55,11 @@ std::vector<IndexedWorldInput> new_worlds(const PathIndex& index, const PyLibrar
     std::vector<IndexedWorldInput> inputs;
     for (const StoredWorld& w : library.reader().worlds()) {
         if (index.contains(w.world_index)) continue;
-        if (w.polyline_points == 0) throw py::value_error("open the library with polyline_hz > 0 to index it");
-        IndexedWorldInput in;
-        in.world_index = w.world_index;
-        in.stride = w.polyline_stride;
-        in.last_frame = w.frame_count - 1;
-        in.record_hz = w.record_hz;
-        in.hold_until_s = static_cast<double>(library.reader().run_last_frame()) / w.record_hz;
-        const size_t per_path = size_t{w.polyline_points} * 3;
-        // Bodies the world does not have get no path; the index then never finds them in a box.
-        for (size_t t = 0; t < w.tracks.size(); ++t) {
-            if (!w.tracks[t].present) {
-                in.polylines.emplace_back();
-                in.final_orientations.push_back({1, 0, 0, 0});
-                continue;
-            }
-            in.polylines.emplace_back(w.polyline.begin() + t * per_path, w.polyline.begin() + (t + 1) * per_path);
-            in.final_orientations.push_back(decode_pose(w, t, w.frame_count - 1).rotation);
+        try {
+            inputs.push_back(indexed_world_input(library.reader(), w));
+        } catch (const std::invalid_argument& error) {
+            throw py::value_error(error.what());
         }
-        for (const MetricValues& m : w.metrics) {
-            in.metric_names.push_back(m.name);
-            in.metric_values.push_back(m.per_body);
-        }
-        inputs.push_back(std::move(in));
     }
     return inputs;
 }

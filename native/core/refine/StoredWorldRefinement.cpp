@@ -47,7 +47,7 @@ SceneChange change_scene(const LibraryReader& reader, const StoredWorld& parent,
 }  // namespace
 
 RefineOutcome refine_stored_world(const LibraryReader& reader, const RefineRequest& request, LibraryWriter& writer,
-                                  const WorldSink& on_world, SamplingProgress* progress) {
+                                  const WorldSink& on_world, SamplingProgress* progress, LineageCache* cache) {
     const RunHeader& header = reader.header();
     const StoredWorld& parent = find_world(reader, request.parent_world);
     SceneChange change = change_scene(reader, parent, request);
@@ -58,10 +58,18 @@ RefineOutcome refine_stored_world(const LibraryReader& reader, const RefineReque
     // The lineage is re-simulated exactly; a world that does not come out as stored was made by
     // another engine build, and refining it would give children of a different parent.
     const uint64_t root = parent.lineage.empty() ? parent.world_index : parent.root_world;
-    const std::vector<WorldResult> chain = simulate_lineage(compiled, header.base_seed, root, parent.lineage);
-    if (chain.back().frame_count != parent.frame_count || chain.back().contacts.size() != parent.contacts.size())
-        throw RefineError("world " + std::to_string(parent.world_index) +
-                          " does not come out as stored: the library was made by a different engine build");
+    // Worlds made in this process came out of this build: a kept lineage needs no check.
+    const bool same_scene = !change.grew && change.added.empty() && change.removed.empty();
+    std::vector<WorldResult> chain;
+    if (cache && same_scene) chain = cache->chain(root, parent.lineage);
+    if (chain.empty()) {
+        chain = simulate_lineage(compiled, header.base_seed, root, parent.lineage);
+        if (chain.back().frame_count != parent.frame_count || chain.back().contacts.size() != parent.contacts.size())
+            throw RefineError("world " + std::to_string(parent.world_index) +
+                              " does not come out as stored: the library was made by a different engine build");
+        if (cache && same_scene)
+            for (const WorldResult& w : chain) cache->keep(w);
+    }
 
     RefineOutcome outcome;
     const bool changes_scene = !change.added.empty() || !change.removed.empty();
@@ -87,6 +95,7 @@ RefineOutcome refine_stored_world(const LibraryReader& reader, const RefineReque
     outcome.statistics = refine_worlds(compiled, header.base_seed, chain, children, request.threads,
                                        [&](WorldResult&& world) {
                                            writer.append(world);
+                                           if (cache && same_scene) cache->keep(world);
                                            if (on_world) on_world(std::move(world));
                                        },
                                        progress);

@@ -10,6 +10,7 @@
 
 #include "library/LibraryReader.h"
 #include "library/LibraryWriter.h"
+#include "refine/LineageCache.h"
 #include "sampler/Sampler.h"
 #include "scene/Scene.h"
 
@@ -48,8 +49,10 @@ struct RefineOutcome {
 /// Refines world `request.parent_world` of the library `reader` has read, appending to `writer`
 /// (the same file) a scene revision when the scene grew, then each child as it finishes, in
 /// parallel. `on_world` is called after each append, from a worker thread, never concurrently.
-/// Throws RefineError before anything is written when the request does not fit.
+/// Throws RefineError before anything is written when the request does not fit. With `cache`, a
+/// parent whose lineage it keeps is not re-simulated, and the lineage and children are kept in it.
 RefineOutcome refine_stored_world(const LibraryReader& reader, const RefineRequest& request, LibraryWriter& writer,
-                                  const WorldSink& on_world = {}, SamplingProgress* progress = nullptr);
+                                  const WorldSink& on_world = {}, SamplingProgress* progress = nullptr,
+                                  LineageCache* cache = nullptr);
 
 }  // namespace mwb

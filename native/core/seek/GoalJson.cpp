@@ -1,0 +1,111 @@
+#include "seek/GoalJson.h"
+
+#include <nlohmann/json.hpp>
+
+#include "query/GoalScore.h"
+#include "scene/BodyChanges.h"
+
+namespace mwb {
+namespace {
+
+using nlohmann::json;
+
+Matrix4 matrix(const json& box, const char* key, const std::string& where) {
+    if (!box.contains(key) || !box[key].is_array())
+        throw GoalError(where + ": \"" + key + "\" must be 16 numbers (a row-major 4x4 matrix)");
+    std::vector<double> values;
+    for (const json& row : box[key]) {
+        if (row.is_array())
+            for (const json& v : row) values.push_back(v.get<double>());
+        else values.push_back(row.get<double>());
+    }
+    if (values.size() != 16) throw GoalError(where + ": \"" + key + "\" must be 16 numbers (a row-major 4x4 matrix)");
+    Matrix4 m;
+    std::copy(values.begin(), values.end(), m.begin());
+    return m;
+}
+
+std::vector<double> numbers(const json& box, const char* key, size_t count, const std::string& where) {
+    if (!box.contains(key) || !box[key].is_array() || box[key].size() != count)
+        throw GoalError(where + ": \"" + key + "\" must be " + std::to_string(count) + " numbers");
+    std::vector<double> out;
+    for (const json& v : box[key]) out.push_back(v.get<double>());
+    return out;
+}
+
+std::vector<uint32_t> bodies_of(const json& box, const Scene& scene, const std::string& where) {
+    std::vector<uint32_t> bodies;
+    if (box.contains("bodies")) {
+        for (const json& b : box["bodies"]) {
+            const auto index = b.get<int64_t>();
+            if (index < 0 || static_cast<size_t>(index) >= scene.bodies.size())
+                throw GoalError(where + ": body " + std::to_string(index) + " is not in the library's scene (" +
+                                std::to_string(scene.bodies.size()) + " bodies)");
+            bodies.push_back(static_cast<uint32_t>(index));
+        }
+    } else if (box.contains("objects")) {
+        for (const json& o : box["objects"]) {
+            const std::string name = o.get<std::string>();
+            size_t found = 0;
+            for (size_t k = 0; k < scene.bodies.size(); ++k)
+                if (object_of(scene.bodies[k]) == name) {
+                    bodies.push_back(static_cast<uint32_t>(k));
+                    ++found;
+                }
+            if (!found) throw GoalError(where + ": the library has no object '" + name + "'");
+        }
+    }
+    if (bodies.empty()) throw GoalError(where + ": no bodies (give \"bodies\" or \"objects\")");
+    return bodies;
+}
+
+}  // namespace
+
+std::vector<QueryBox> goal_from_json(const std::string& text, const Scene& scene) {
+    json goal;
+    try {
+        goal = json::parse(text);
+    } catch (const json::exception& error) {
+        throw GoalError(std::string("the goal is not JSON: ") + error.what());
+    }
+    if (!goal.is_object() || !goal.contains("boxes") || !goal["boxes"].is_array())
+        throw GoalError("the goal has no \"boxes\" list");
+    if (goal["boxes"].empty()) throw GoalError("the goal has no boxes: draw at least one box");
+    std::vector<QueryBox> boxes;
+    try {
+        for (size_t k = 0; k < goal["boxes"].size(); ++k) {
+            const json& b = goal["boxes"][k];
+            const std::string where = "box " + std::to_string(k + 1);
+            if (!b.is_object()) throw GoalError(where + " is not an object");
+            QueryBox box;
+            const std::vector<double> viewport = numbers(b, "viewport", 2, where);
+            const std::vector<double> rect = numbers(b, "rect", 4, where);
+            try {
+                box.frustum = make_screen_frustum(matrix(b, "view", where), matrix(b, "projection", where), viewport[0],
+                                                  viewport[1], rect[0], rect[1], rect[2], rect[3]);
+            } catch (const std::invalid_argument& error) {
+                throw GoalError(where + ": " + error.what());
+            }
+            box.bodies = bodies_of(b, scene, where);
+            box.negative = b.value("negative", false);
+            box.swept = b.value("swept", false);
+            if (b.contains("time_window") && !b["time_window"].is_null()) {
+                const std::vector<double> w = numbers(b, "time_window", 2, where);
+                if (!(w[0] <= w[1])) throw GoalError(where + ": time_window must be [start, end] with start <= end");
+                box.window = {w[0], w[1]};
+            }
+            if (b.contains("after") && !b["after"].is_null()) box.after = b["after"].get<int32_t>();
+            boxes.push_back(std::move(box));
+        }
+    } catch (const json::exception& error) {
+        throw GoalError(std::string("the goal is malformed: ") + error.what());
+    }
+    try {
+        goal_order(boxes);
+    } catch (const std::invalid_argument& error) {
+        throw GoalError(error.what());
+    }
+    return boxes;
+}
+
+}  // namespace mwb

@@ -1,0 +1,29 @@
+#pragma once
+// A goal file: the boxes a search must meet, as the add-on and command line write them.
+//
+//   {"boxes": [{"view": [16 numbers, row-major world to camera],
+//               "projection": [16 numbers, row-major camera to clip, OpenGL],
+//               "viewport": [width, height], "rect": [x0, y0, x1, y1] (pixels from the bottom-left),
+//               "bodies": [scene body indices] or "objects": ["Name", ...],
+//               "negative": false, "swept": false, "time_window": [t0, t1] or null,
+//               "after": null or the index in "boxes" of the box this one must be met after}]}
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "query/PathIndex.h"
+#include "scene/Scene.h"
+
+namespace mwb {
+
+/// A goal that cannot be searched for (no boxes, an object the library lacks, an ordering
+/// cycle, a malformed file); the message is one line.
+struct GoalError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+/// The goal's boxes, with body names resolved against `scene` (every body standing for a named
+/// object). Throws GoalError.
+std::vector<QueryBox> goal_from_json(const std::string& text, const Scene& scene);
+
+}  // namespace mwb

@@ -1,0 +1,34 @@
+#include "seek/WorldIndexing.h"
+
+#include <stdexcept>
+
+#include "library/WorldDecoding.h"
+
+namespace mwb {
+
+IndexedWorldInput indexed_world_input(const LibraryReader& reader, const StoredWorld& w) {
+    if (w.polyline_points == 0) throw std::invalid_argument("open the library with polyline_hz > 0 to index it");
+    IndexedWorldInput in;
+    in.world_index = w.world_index;
+    in.stride = w.polyline_stride;
+    in.last_frame = w.frame_count - 1;
+    in.record_hz = w.record_hz;
+    in.hold_until_s = static_cast<double>(reader.run_last_frame()) / w.record_hz;
+    const size_t per_path = size_t{w.polyline_points} * 3;
+    for (size_t t = 0; t < w.tracks.size(); ++t) {
+        if (!w.tracks[t].present) {
+            in.polylines.emplace_back();
+            in.final_orientations.push_back({1, 0, 0, 0});
+            continue;
+        }
+        in.polylines.emplace_back(w.polyline.begin() + t * per_path, w.polyline.begin() + (t + 1) * per_path);
+        in.final_orientations.push_back(decode_pose(w, t, w.frame_count - 1).rotation);
+    }
+    for (const MetricValues& m : w.metrics) {
+        in.metric_names.push_back(m.name);
+        in.metric_values.push_back(m.per_body);
+    }
+    return in;
+}
+
+}  // namespace mwb

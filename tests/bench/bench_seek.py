@@ -1,0 +1,201 @@
+"""Benchmark: goal search on an example, with the goal its README states in full.
+
+    blender -b blend_examples/NAME/NAME.blend --python tests/bench/bench_seek.py [-- BUDGET_WORLDS [BUDGET_S]]
+
+Exports the scene, samples a first batch of worlds as a user would, then runs `mwb-engine seek`
+with the example's goal boxes (drawn in the scene camera's view, or in a top view for footprints)
+until one world meets them all or the budget is spent. The world it reports is checked again here
+with the browser's own query. Prints a line per example and `BENCH seek_NAME_reached` (1/0),
+`BENCH seek_NAME_worlds` (worlds simulated, the first batch included) and `BENCH seek_NAME_s`.
+"""
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+import bpy
+import numpy as np
+from bpy_extras.object_utils import world_to_camera_view
+from mathutils import Vector
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(ROOT, "addon"))
+
+import many_worlds  # noqa: E402
+from many_worlds import _native, cli  # noqa: E402
+from many_worlds.core import paths  # noqa: E402
+from many_worlds.export import export_and_validate  # noqa: E402
+
+FIRST_BATCH = 32
+ARGS = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+BUDGET_WORLDS = int(ARGS[0]) if ARGS else 20000
+BUDGET_S = float(ARGS[1]) if len(ARGS) > 1 else 600.0
+TOP_VIEW_SIZE = 1000  # pixels of the top view's square viewport
+
+
+def corners(names, lift=0.0, pad=0.0):
+    """World corners of the named objects' bounding boxes, raised by up to `lift` and grown by `pad`."""
+    points = []
+    for name in names:
+        ob = bpy.data.objects[name]
+        for c in ob.bound_box:
+            p = ob.matrix_world @ Vector(c)
+            for dz in (0.0, lift):
+                for dx in (-pad, pad):
+                    points.append(p + Vector((dx, 0, dz - pad)))
+                    points.append(p + Vector((dx, 0, dz + pad)))
+    return points
+
+
+def camera_box(points, objects, *, negative=False, window=None, after=None):
+    """A goal box around world points as the scene camera sees them."""
+    scene = bpy.context.scene
+    view, projection, (width, height) = cli.camera_view(scene.camera.name)
+    screen = [world_to_camera_view(scene, scene.camera, p) for p in points]
+    rect = [min(p.x for p in screen) * width, min(p.y for p in screen) * height,
+            max(p.x for p in screen) * width, max(p.y for p in screen) * height]
+    return {"view": np.asarray(view).ravel().tolist(), "projection": np.asarray(projection).ravel().tolist(),
+            "viewport": [width, height], "rect": rect, "objects": objects, "negative": negative,
+            "time_window": window, "after": after}
+
+
+def top_box(x0, y0, x1, y1, objects, *, half_size=6.0, negative=False, window=None, after=None):
+    """A goal box seen from straight above (orthographic, the square |x|, |y| <= half_size)."""
+    view = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, -50, 0, 0, 0, 1]  # camera at z = 50 looking down
+    near, far = 1.0, 100.0
+    s = 1 / half_size
+    projection = [s, 0, 0, 0, 0, s, 0, 0, 0, 0, -2 / (far - near), -(far + near) / (far - near), 0, 0, 0, 1]
+    to_px = lambda v: (v * s + 1) / 2 * TOP_VIEW_SIZE  # noqa: E731
+    return {"view": view, "projection": projection, "viewport": [TOP_VIEW_SIZE, TOP_VIEW_SIZE],
+            "rect": [to_px(x0), to_px(y0), to_px(x1), to_px(y1)], "objects": objects, "negative": negative,
+            "time_window": window, "after": after}
+
+
+def marble_run_goal():
+    """The marble tips Cup1 to Cup4 in turn (each pours it onto the chute below it, towards the
+    next cup) and ends in the basket."""
+    boxes = []
+    cups = [("Cup1", +1), ("Cup2", -1), ("Cup3", +1), ("Cup4", -1)]
+    for k, (cup, side) in enumerate(cups):
+        hinge = bpy.data.objects[f"{cup}Hinge"].matrix_world.translation
+        # On the chute under the rim it must tip over: 10 to 35 cm beyond the hinge, below the cup.
+        x_near, x_far = hinge.x + side * 0.10, hinge.x + side * 0.35
+        points = [Vector((x, 0, z)) for x in (x_near, x_far) for z in (hinge.z - 0.32, hinge.z - 0.12)]
+        boxes.append(camera_box(points, ["Marble"], after=k - 1 if k else None))
+    basket = [n for n in (o.name for o in bpy.data.objects) if n.startswith("GoalBasket")]
+    boxes.append(camera_box(corners(basket, lift=0.15), ["Marble"], window=[7.0, 8.0], after=len(cups) - 1))
+    return boxes
+
+
+def pachinko_letters_goal():
+    """Every letter in its own slot over the last second."""
+    return [camera_box(corners([f"Slot{i}_{c}"], lift=0.5), [f"Letter{i}_{c}"], window=[5.0, 6.0])
+            for i, c in enumerate("WORLDS", 1)]
+
+
+def spiral_staircase_goal():
+    """He falls from top to bottom without leaving the staircase's footprint: negative boxes all
+    round the footprint seen from above, on every body part; a positive box on the Pelvis at the
+    last steps at the end."""
+    parts = [o.name for o in bpy.data.objects if o.rigid_body is not None and o.rigid_body.type == "ACTIVE"]
+    r, big = 1.6, 6.0
+    frame = [(-big, -big, -r, big), (r, -big, big, big), (-r, -big, r, -r), (-r, r, r, big)]
+    boxes = [top_box(*rect, parts, negative=True) for rect in frame]
+    boxes.append(camera_box(corners(["Step46", "Step47", "Step48"], lift=0.5), ["Pelvis"], window=[9.0, 10.0]))
+    return boxes
+
+
+def trebuchet_tower_goal():
+    """The rock hits the tower, and no block touches a bystander."""
+    blocks = [o.name for o in bpy.data.objects if o.name.startswith("Block")]
+    boxes = [camera_box(corners(blocks), ["Rock"])]
+    for k in (1, 2, 3):
+        boxes.append(camera_box(corners([f"Bystander{k}"], pad=0.05), blocks, negative=True))
+    return boxes
+
+
+GOALS = {"marble_run": marble_run_goal, "pachinko_letters": pachinko_letters_goal,
+         "spiral_staircase": spiral_staircase_goal, "trebuchet_tower": trebuchet_tower_goal}
+
+
+def engine(*args):
+    result = subprocess.run([paths.engine_path(), *args], capture_output=True, text=True)
+    if result.returncode != 0:
+        raise SystemExit(f"engine failed: {result.stderr.strip()}")
+    return result.stdout
+
+
+def query_boxes(goal, library):
+    """The goal as the browser's own query boxes."""
+    scene = _native.Scene.from_json(library.scene_json)
+    names = list(scene.body_objects)
+    out = []
+    for b in goal:
+        out.append(_native.QueryBox(np.asarray(b["view"]).reshape(4, 4), np.asarray(b["projection"]).reshape(4, 4),
+                                    tuple(b["viewport"]), tuple(b["rect"]), negative=b["negative"],
+                                    bodies=[i for i, n in enumerate(names) if n in b["objects"]],
+                                    time_window=tuple(b["time_window"]) if b["time_window"] else None,
+                                    after=-1 if b["after"] is None else b["after"]))
+    return out
+
+
+class _Kept:
+    def __init__(self, path):
+        self.path = path
+
+    def __enter__(self):
+        return self.path
+
+    def __exit__(self, *_):
+        return False
+
+
+def main():
+    name = os.path.splitext(os.path.basename(bpy.data.filepath))[0]
+    if name not in GOALS:
+        raise SystemExit(f"no goal for {name} (have: {', '.join(GOALS)})")
+    many_worlds.register()
+    result, problems = export_and_validate(bpy.context)
+    if result.scene is None or problems:
+        raise SystemExit(f"{name}: cannot export: {problems}")
+    goal = GOALS[name]()
+    # MWB_SEEK_KEEP=DIR keeps the scene, goal and library there for a closer look.
+    keep = os.environ.get("MWB_SEEK_KEEP")
+    if keep:
+        os.makedirs(keep, exist_ok=True)
+        for f in ("lib.mwb",):
+            if os.path.exists(os.path.join(keep, f)):
+                os.remove(os.path.join(keep, f))
+    with (tempfile.TemporaryDirectory() if not keep else _Kept(keep)) as folder:
+        scene_json, library_path, goal_path = (os.path.join(folder, f) for f in ("scene.json", "lib.mwb", "goal.json"))
+        with open(scene_json, "w") as f:
+            f.write(result.to_json())
+        with open(goal_path, "w") as f:
+            json.dump({"boxes": goal}, f)
+        start = time.perf_counter()
+        engine("sample", "--scene", scene_json, "--out", library_path, "--worlds", f"0:{FIRST_BATCH}")
+        sampled_s = time.perf_counter() - start
+        out = engine("seek", "--library", library_path, "--goal", goal_path, "--want", "1",
+                     "--budget-worlds", str(BUDGET_WORLDS), "--budget-s", str(max(1.0, BUDGET_S - sampled_s)), "--json")
+        elapsed = time.perf_counter() - start
+        outcome = json.loads(out.strip().splitlines()[-1])
+        # The browser's own query must agree that the world found meets the goal.
+        library = _native.Library(library_path)
+        index = _native.PathIndex(_native.body_bounding_radii(_native.Scene.from_json(library.scene_json)))
+        index.add_library(library)
+        matching = set(int(w) for w in index.query(query_boxes(goal, library))["matching"])
+        reached = bool(outcome["reached"]) and all(w in matching for w in outcome["found"])
+        worlds = FIRST_BATCH + outcome["worlds_made"]
+        lineage = len(library.world_info(outcome["best"]).lineage) if outcome["best"] in set(
+            int(w) for w in library.world_indices) else 0
+    print(f"{name}: goal {'reached' if reached else 'not reached'}: best world {outcome['best']} meets "
+          f"{outcome['best_boxes_met']} of {outcome['boxes']} boxes ({lineage} refinements deep), "
+          f"{worlds} worlds, {outcome['refinements']} refine calls, {elapsed:.1f} s")
+    print(f"BENCH seek_{name}_reached {int(reached)}")
+    print(f"BENCH seek_{name}_worlds {worlds}")
+    print(f"BENCH seek_{name}_s {elapsed:.1f}")
+
+
+main()
