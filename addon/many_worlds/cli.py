@@ -8,6 +8,7 @@ Commands (run `... -- help` for the options):
     info     worlds, bodies, sizes, rejections and the scene hash of a library
     query    worlds whose paths enter (or avoid) boxes drawn in the scene camera's view
     rank     worlds sorted by a metric
+    seek     refine a library's worlds until some meet every box (the engine runs as a child process)
     bake     write one world as keyframes and save the result as a new .blend
     preview  a contact sheet PNG of chosen worlds' paths seen from the scene camera
 
@@ -19,6 +20,7 @@ import os
 import signal
 import subprocess
 import sys
+import tempfile
 
 if __name__ == "__main__":
     # Run as a script by Blender: make the package importable from this checkout and resolve the
@@ -30,7 +32,7 @@ if __name__ == "__main__":
 import numpy as np  # noqa: E402
 
 from . import _native  # noqa: E402
-from .core import contact_sheet, engine, paths  # noqa: E402
+from .core import contact_sheet, engine, goal, paths  # noqa: E402
 from .core.library_view import LibraryView  # noqa: E402
 from .core.library_query import BOXES_MET, BoxSpec, LibraryQuery, metric_name  # noqa: E402
 
@@ -144,14 +146,30 @@ def command_sample(args):
         raise CliError(str(error)[0].lower() + str(error)[1:])
     for line in warnings:
         print(f"many_worlds: warning: {line}", file=sys.stderr)
-    # The engine keeps every finished world when interrupted; pass Ctrl-C on to it.
+
+    def progress_line(line):
+        progress = engine.parse_progress(line)
+        return f"sampled {progress[0]}/{progress[1]} worlds" if progress else None
+
+    return follow_engine(argv, progress_line)
+
+
+def follow_engine(argv, progress_line):
+    """Run an engine child to its end: its progress lines as `progress_line(line)` turns them into
+    words (None: not a progress line), its other lines passed on, then its summary. Ctrl-C is
+    passed on to it (it keeps every finished world and exits with 130). Returns the exit status;
+    raises CliError with the engine's own message when it fails."""
     process = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     previous = signal.signal(signal.SIGINT, lambda *_: process.send_signal(signal.SIGINT))
+    errors = []
     try:
         for line in process.stderr:
-            progress = engine.parse_progress(line)
-            if progress:
-                print(f"many_worlds: sampled {progress[0]}/{progress[1]} worlds", file=sys.stderr, flush=True)
+            words = progress_line(line)
+            if words:
+                print(f"many_worlds: {words}", file=sys.stderr, flush=True)
+            elif line.startswith("mwb-engine: "):
+                # Said once, as this command's error, if the run fails.
+                errors.append(line.strip()[len("mwb-engine: "):])
             elif line.strip():
                 print(line.rstrip(), file=sys.stderr)
         summary = process.stdout.read()
@@ -159,12 +177,14 @@ def command_sample(args):
     finally:
         # Blender installs its own handler from C, which Python reports as None.
         signal.signal(signal.SIGINT, previous if previous is not None else signal.SIG_DFL)
+    if process.returncode not in (0, 130):
+        raise CliError(errors[0] if errors else f"the engine failed (exit {process.returncode})")
+    for line in errors:
+        print(f"many_worlds: engine: {line}", file=sys.stderr)
     print(summary.strip())
     if process.returncode == 130:
         print("many_worlds: interrupted; finished worlds are kept", file=sys.stderr)
         return 130
-    if process.returncode != 0:
-        raise CliError(f"the engine failed (exit {process.returncode})")
     return 0
 
 
@@ -214,34 +234,56 @@ def camera_view(name):
     return np.array(camera.matrix_world.inverted()), np.array(projection), (width, height)
 
 
+def parse_after(text, box, count):
+    """--after N of box `box` (0-based) among `count` boxes: N counts boxes from 1 in command-line
+    order. Returns the 0-based position."""
+    try:
+        after = int(text)
+    except ValueError:
+        raise CliError(f"--after: expected a box number, got '{text}'")
+    if not 1 <= after <= count:
+        raise CliError(f"--after {text}: there is no box {text} (boxes are numbered 1 to {count})")
+    if after == box + 1:
+        raise CliError(f"--after {text}: box {after} cannot be met after itself")
+    return after - 1
+
+
 def parse_boxes(args, library):
-    """The --box groups: each --box starts a box; --negative/--objects/--time after it refine it."""
+    """The --box groups: each --box starts a box; --negative/--objects/--time/--swept/--after after
+    it refine it."""
     boxes = []
-    for spec in args.box_specs:
+    for k, spec in enumerate(args.box_specs):
         x0, y0, x1, y1 = parse_numbers(spec["box"], 4, "--box")
         if not all(0 <= v <= 1 for v in (x0, y0, x1, y1)):
             raise CliError(f"--box: coordinates are fractions of the camera view in [0, 1], got '{spec['box']}'")
         window = tuple(parse_numbers(spec["time"], 2, "--time")) if spec.get("time") else None
         if window and window[0] > window[1]:
             raise CliError(f"--time: start after end in '{spec['time']}'")
+        after = parse_after(spec["after"], k, len(args.box_specs)) if spec.get("after") is not None else -1
         boxes.append(dict(rect=(x0, y0, x1, y1), negative=spec.get("negative", False),
                           bodies=body_indices(library, spec.get("objects") or getattr(args, "objects", None)),
-                          time_window=window,
-                          swept=spec.get("swept", False)))
+                          time_window=window, swept=spec.get("swept", False), after=after))
     return boxes
+
+
+def box_specs(args, library):
+    """The --box groups as BoxSpecs in the camera's view (pixels at the render resolution)."""
+    boxes = parse_boxes(args, library)
+    if not boxes:
+        return []
+    view_matrix, projection, (width, height) = camera_view(args.camera)
+    return [BoxSpec(view=view_matrix, projection=projection, size=(width, height),
+                    rect=(b["rect"][0] * width, b["rect"][1] * height, b["rect"][2] * width, b["rect"][3] * height),
+                    negative=b["negative"], bodies=tuple(b["bodies"]), time_window=b["time_window"],
+                    swept=b["swept"], after=b["after"]) for b in boxes]
 
 
 def evaluate_boxes(args, view):
     """(LibraryQuery over every world, QueryResult of the --box groups or None without boxes).
     Like the add-on, a box never sees bodies a world lacks."""
-    boxes = parse_boxes(args, view.library)
-    if not boxes:
+    specs = box_specs(args, view.library)
+    if not specs:
         return LibraryQuery(_native, view), None
-    view_matrix, projection, (width, height) = camera_view(args.camera)
-    specs = [BoxSpec(view=view_matrix, projection=projection, size=(width, height),
-                     rect=(b["rect"][0] * width, b["rect"][1] * height, b["rect"][2] * width, b["rect"][3] * height),
-                     negative=b["negative"], bodies=tuple(b["bodies"]), time_window=b["time_window"],
-                     swept=b["swept"]) for b in boxes]
     lq = LibraryQuery(_native, view)
     try:
         return lq, lq.evaluate(specs)
@@ -285,6 +327,34 @@ def command_rank(args):
     for w, v in list(zip(ids, values))[:limit]:
         print(f"{int(w)} {v:.6g}")
     return 0
+
+
+# --- seek ---------------------------------------------------------------------------------
+
+def command_seek(args):
+    if not args.box_specs:
+        raise CliError("seek needs at least one --box (the goal)")
+    for option, value in (("--want", args.want), ("--budget", args.budget)):
+        if value < 1:
+            raise CliError(f"{option}: expected at least 1, got {value}")
+    if args.budget_s is not None and args.budget_s <= 0:
+        raise CliError(f"--budget-s: expected a positive number of seconds, got {args.budget_s}")
+    library = open_library(args.library)
+    check_library_matches_scene(library, args.library)
+    specs = box_specs(args, library)
+    with tempfile.TemporaryDirectory(prefix="mwb-seek-") as folder:
+        try:
+            goal_path = goal.write_goal(os.path.join(folder, "goal.json"), specs)
+        except ValueError as error:
+            raise CliError(str(error))
+        argv = engine.seek_command(paths.engine_path(), os.path.abspath(args.library), goal_path, args.want,
+                                   args.budget, args.budget_s, args.seed, args.threads or 0, as_json=args.json)
+
+        def progress_line(line):
+            progress = engine.parse_seek_progress(line)
+            return engine.seek_progress_text(progress) if progress else None
+
+        return follow_engine(argv, progress_line)
 
 
 # --- bake and preview -----------------------------------------------------------------------
@@ -348,6 +418,8 @@ class BoxAction(argparse.Action):
             specs[-1]["objects"] = values
         elif option_string == "--time":
             specs[-1]["time"] = values
+        elif option_string == "--after":
+            specs[-1]["after"] = values
         namespace.box_specs = specs
 
 
@@ -359,6 +431,8 @@ def add_box_options(parser, objects_help=None):
     parser.add_argument("--negative", action=BoxAction, nargs=0, help="the last box rejects worlds entering it")
     parser.add_argument("--swept", action=BoxAction, nargs=0, help="the last box tests whole bodies, not centres")
     parser.add_argument("--time", action=BoxAction, metavar="T0,T1", help="the last box applies between T0 and T1 s")
+    parser.add_argument("--after", action=BoxAction, metavar="N",
+                        help="the last box counts only when met after box N (boxes numbered from 1 in order)")
     if objects_help:
         parser.add_argument("--objects", action=BoxAction, metavar="A,B", help=objects_help)
 
@@ -398,6 +472,15 @@ def build_parser():
     p.add_argument("--limit", type=int, help="print only the first N")
     p.add_argument("--objects", help="objects the metric combines and the boxes test (default: all simulated)")
     add_box_options(p)
+    p = commands.add_parser("seek", help="refine worlds until some meet every box")
+    p.add_argument("library")
+    p.add_argument("--want", type=int, default=1, help="worlds meeting every box to find (default: 1)")
+    p.add_argument("--budget", type=int, required=True, help="most worlds to make")
+    p.add_argument("--budget-s", type=float, help="most seconds to run (default: no limit)")
+    p.add_argument("--seed", type=int, help="seed of the refinements (default: the engine's)")
+    p.add_argument("--threads", type=int, help="engine threads (default: all cores)")
+    p.add_argument("--json", action="store_true", help="the summary as one JSON object")
+    add_box_options(p, "objects the last box applies to (default: every simulated object)")
     p = commands.add_parser("bake", help="bake one world to keyframes into a new .blend")
     p.add_argument("library")
     p.add_argument("--world", type=int, required=True)
@@ -414,7 +497,7 @@ def build_parser():
 
 
 COMMANDS = {"sample": command_sample, "merge": command_merge, "info": command_info, "query": command_query,
-            "rank": command_rank, "bake": command_bake, "preview": command_preview}
+            "rank": command_rank, "seek": command_seek, "bake": command_bake, "preview": command_preview}
 
 
 def ensure_registered():

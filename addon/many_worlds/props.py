@@ -86,6 +86,43 @@ class MWB_BodyName(bpy.types.PropertyGroup):
     """A scene body referred to by its object name (`name`), as the library's scene knows it."""
 
 
+def _box_position(box):
+    """The position of a box property in its scene's list."""
+    boxes = box.id_data.mwb.boxes
+    return next(k for k, other in enumerate(boxes) if other == box)
+
+
+# Dynamic enum items must stay referenced while Blender shows them.
+_AFTER_ITEMS = []
+
+
+def _after_items(self, context):
+    """'None' and every other box that this box can be met after without closing a cycle; an
+    item's number is the box's position + 1."""
+    from .core.library_query import closes_order_cycle
+    boxes = self.id_data.mwb.boxes
+    here = _box_position(self)
+    afters = [box.after_box for box in boxes]
+    items = [("NONE", "None", "Met at any time", 0)]
+    items += [(str(k), f"Box {k + 1}", f"Counts only when met after box {k + 1} is", k + 1)
+              for k in range(len(boxes)) if not closes_order_cycle(afters, here, k)]
+    _AFTER_ITEMS[:] = items
+    return items
+
+
+def _get_after(self):
+    return self.after_box + 1
+
+
+def _set_after(self, value):
+    from .core.library_query import closes_order_cycle
+    after = value - 1
+    if after >= 0 and closes_order_cycle([box.after_box for box in self.id_data.mwb.boxes],
+                                         _box_position(self), after):
+        return
+    self.after_box = after
+
+
 class MWB_QueryBox(bpy.types.PropertyGroup):
     """A box drawn in a 3D viewport: the rectangle plus the view it was drawn through.
 
@@ -111,6 +148,12 @@ class MWB_QueryBox(bpy.types.PropertyGroup):
                               description="End of the time window, seconds of simulated time")
     swept: BoolProperty(name="Swept", default=False, update=_on_box_change,
                         description="Test the bodies' bounding spheres along the path, not only their origins")
+    after_box: IntProperty(name="After Box", default=-1, min=-1, update=_on_box_change,
+                           description="Position in the list of the box this one must be met after; -1: any time")
+    # The list's choice of after_box (whose update evaluates the boxes again).
+    after: EnumProperty(name="After", items=_after_items, get=_get_after, set=_set_after,
+                        description="Count this box only when its bodies meet it after the chosen box is met "
+                                    "(a disabled predecessor leaves it unordered)")
 
 
 def _rank_metric_items():
@@ -176,6 +219,13 @@ class MWB_SceneSettings(bpy.types.PropertyGroup):
                ("SIMULATED", "Simulated", "Every body the simulation moves"),
                ("LISTED", "Listed", "The bodies stored with Use Selected")])
     rank_body_names: CollectionProperty(type=MWB_BodyName)
+    # Goal search
+    seek_want: IntProperty(name="Find", default=1, min=1, soft_max=100,
+                           description="Worlds meeting every enabled box to find before stopping")
+    seek_budget_worlds: IntProperty(name="Budget", default=2000, min=1, soft_max=100000,
+                                    description="Most new worlds a seek makes")
+    seek_budget_s: FloatProperty(name="Time Limit", default=0.0, min=0.0, unit="TIME_ABSOLUTE",
+                                 description="Most seconds a seek runs; 0: no limit")
     # Preview: what to put back when it ends (saved, so a reload mid-preview can still restore).
     previewing: BoolProperty(default=False)
     preview_rigidbody_enabled: BoolProperty(default=True)

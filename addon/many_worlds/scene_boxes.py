@@ -4,6 +4,8 @@ The evaluation itself is in core.library_query (no bpy); this module reads the p
 body names to the library's body indices, keeps the session's LibraryQuery in step with the open
 view, and caches the ranking the panel shows.
 """
+import dataclasses
+
 import bpy
 import numpy as np
 
@@ -108,13 +110,22 @@ def store_box(scene, view_matrix, projection_matrix, size, rect, negative, body_
 
 
 def enabled_specs(scene, view):
-    specs = []
-    for box in scene.mwb.boxes:
-        if box.enabled:
-            spec = spec_of(box, view)
-            if spec is not None:
-                specs.append(spec)
-    return specs
+    """BoxSpecs of the enabled boxes that test bodies of the library, in list order; each one's
+    `after` counts among them (a box met after a box left out has no order)."""
+    boxes = scene.mwb.boxes
+    specs = [spec_of(box, view) if box.enabled else None for box in boxes]
+    afters = core_query.order_among([box.after_box for box in boxes], [spec is not None for spec in specs])
+    return [dataclasses.replace(spec, after=after) for spec, after in zip([s for s in specs if s], afters)]
+
+
+def remove_box(scene, index):
+    """Delete box `index`: boxes met after it lose their order, the later ones keep theirs."""
+    boxes = scene.mwb.boxes
+    afters = core_query.order_after_removing([box.after_box for box in boxes], index)
+    boxes.remove(index)
+    for box, after in zip(boxes, afters):
+        # Without the update callback: the caller evaluates once, after the removal.
+        box["after_box"] = after
 
 
 def refresh(scene, extra=None):

@@ -131,6 +131,15 @@ def test_preview_draws_one_labelled_tile_per_world(library, tmp_path):
     (["rank", "LIB", "--metric", "happiness"], "unknown metric 'happiness'"),
     (["bake", "LIB", "--world", "999", "--out", "x.blend"], "no world 999"),
     (["sample", "--worlds", "5:2", "--out", "x.mwb"], "empty or negative range"),
+    (["query", "LIB", "--box", "0,0,1,1", "--after", "2"], "--after 2: there is no box 2"),
+    (["seek", "LIB", "--budget", "10"], "seek needs at least one --box"),
+    (["seek", "LIB", "--box", "0,0,1,1", "--box", "0,0,.5,.5", "--after", "3", "--budget", "10"],
+     "--after 3: there is no box 3 (boxes are numbered 1 to 2)"),
+    (["seek", "LIB", "--box", "0,0,1,1", "--box", "0,0,.5,.5", "--after", "2", "--budget", "10"],
+     "box 2 cannot be met after itself"),
+    (["seek", "LIB", "--box", "0,0,1,1", "--budget", "0"], "--budget: expected at least 1, got 0"),
+    (["seek", "LIB", "--box", "0,0,1,1", "--budget", "5", "--want", "0"], "--want: expected at least 1, got 0"),
+    (["seek", "LIB", "--after", "1", "--budget", "5"], "comes before any --box"),
     (["frobnicate"], "invalid choice"),
 ])
 def test_user_mistakes_are_one_line_and_exit_2(library, args, phrase):
@@ -191,3 +200,75 @@ def test_a_body_removed_from_worlds_is_skipped_and_may_be_deleted_from_the_blend
     baked = output_lines(cli("bake", str(changed), "--world", str(children[0]), "--out", str(tmp_path / "b.blend")))
     assert "onto 4 objects (hid Die: not in this world)" in baked[-1], baked
     cli("preview", str(changed), "--worlds", f"{children[0]},3", "--out", str(tmp_path / "sheet.png"))
+
+
+# Over the quick-start camera's view: where the marble leaves the gate, and the left bin.
+GATE = "0.45,0.7,0.65,0.9"
+LEFT_BIN = "0.32,0.22,0.38,0.40"
+
+
+def matching(*args, library):
+    return json.loads(output_lines(cli("query", str(library), "--json", *args))[0])["matching"]
+
+
+def test_a_box_met_after_another_counts_only_in_that_order(library):
+    both = matching("--box", GATE, "--objects", "Marble", "--box", LEFT_BIN, "--objects", "Marble", library=library)
+    assert 0 < len(both) < 12, "the marble should end in the left bin in some worlds, not all"
+    # The marble leaves the gate before it reaches a bin: in that order the same worlds match.
+    in_order = matching("--box", GATE, "--objects", "Marble", "--box", LEFT_BIN, "--objects", "Marble",
+                        "--after", "1", library=library)
+    assert in_order == both
+    # It never climbs back to the gate after landing.
+    assert matching("--box", GATE, "--objects", "Marble", "--after", "2", "--box", LEFT_BIN, "--objects", "Marble",
+                    library=library) == []
+    ranked = output_lines(cli("rank", str(library), "--metric", "boxes_met", "--box", GATE, "--objects", "Marble",
+                              "--after", "2", "--box", LEFT_BIN, "--objects", "Marble"))
+    counts = {int(line.split()[0]): int(line.split()[1]) for line in ranked}
+    assert len(counts) == 12 and max(counts.values()) < 2
+
+
+def engine_has_seek():
+    sys.path.insert(0, os.path.join(ROOT, "addon"))
+    from many_worlds.core import paths
+    result = subprocess.run([paths.engine_path(), "seek"], capture_output=True, text=True)
+    return "unknown command 'seek'" not in result.stderr
+
+
+needs_seek = pytest.mark.skipif(not engine_has_seek(), reason="the built mwb-engine has no 'seek' command yet")
+# Rare together: the marble in the left bin, the cone in the middle one, the pill in the right one.
+GOAL = ["--box", LEFT_BIN, "--objects", "Marble", "--time", "3,4",
+        "--box", "0.40,0.19,0.46,0.37", "--objects", "Cone", "--time", "3,4",
+        "--box", "0.50,0.15,0.557,0.33", "--objects", "Pill", "--time", "3,4"]
+
+
+@needs_seek
+def test_seek_grows_the_library_until_a_world_meets_the_goal(library, tmp_path):
+    sys.path.insert(0, os.path.join(ROOT, "addon"))
+    from many_worlds import _native
+    grown = tmp_path / "seek.mwb"
+    shutil.copy(library, grown)
+    result = cli("seek", str(grown), *GOAL, "--want", "1", "--budget", "600", "--threads", "2", "--json")
+    outcome = json.loads(output_lines(result)[-1])
+    assert set(outcome) >= {"reached", "found", "best", "best_boxes_met", "boxes", "worlds_made", "seconds"}
+    progress = [line for line in result.stderr.splitlines() if line.startswith("many_worlds: best ")]
+    assert progress and all(" of 3 boxes" in line for line in progress), result.stderr[-800:]
+    worlds = sorted(int(w) for w in _native.Library(str(grown)).world_indices)
+    assert len(worlds) == 12 + outcome["worlds_made"] and worlds[:12] == list(range(12))
+    # What the engine reports is what a query of the grown library finds.
+    meets = set(matching(*GOAL, library=grown))
+    assert set(outcome["found"]) <= meets and outcome["reached"] == (len(outcome["found"]) >= 1)
+    assert (outcome["best"] in meets) == (outcome["best_boxes_met"] == 3 == outcome["boxes"])
+    # Without --json, one line for people.
+    summary = output_lines(cli("seek", str(grown), *GOAL, "--want", "1", "--budget", "3"))
+    assert len(summary) == 1 and summary[0].startswith("seek: "), summary
+
+
+@needs_seek
+def test_an_order_cycle_is_refused_in_one_line(library, tmp_path):
+    grown = tmp_path / "cycle.mwb"
+    shutil.copy(library, grown)
+    result = cli("seek", str(grown), "--box", GATE, "--after", "2", "--box", LEFT_BIN, "--after", "1",
+                 "--budget", "10", check=False)
+    assert result.returncode == 2, result.stderr[-800:]
+    errors = [line for line in result.stderr.splitlines() if line.startswith("many_worlds: error:")]
+    assert len(errors) == 1 and "Traceback" not in result.stderr, result.stderr[-800:]

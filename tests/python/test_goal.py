@@ -105,3 +105,15 @@ def test_seek_command_progress_and_summary():
     assert engine.seek_outcome_text(spent, 1) == ("Budget spent: best world 418 meets 5 of 6 boxes; "
                                                   "2,000 worlds made in 80.0 s")
     assert engine.parse_seek_outcome("seek: budget spent; best world 418 meets 5 of 6 boxes") is None
+
+
+def test_seek_summary_says_how_many_were_wanted_and_names_a_single_box():
+    partial = engine.SeekOutcome(reached=False, found=(412,), best=412, best_boxes_met=6, boxes=6, worlds_made=2000,
+                                 seconds=80.0)
+    assert engine.seek_outcome_text(partial, 3) == ("Budget spent: 1 world meets all 6 boxes (412) of 3 wanted; "
+                                                    "2,000 worlds made in 80.0 s")
+    one = engine.SeekOutcome(reached=True, found=tuple(range(10)), best=0, best_boxes_met=1, boxes=1, worlds_made=0,
+                             seconds=0.0)
+    assert engine.seek_outcome_text(one, 2) == ("Goal reached: 10 worlds meet the box (0, 1, 2, 3, 4, 5, 6, 7 and "
+                                                "2 more); 0 worlds made in 0.0 s")
+    assert engine.seek_progress_text(engine.SeekProgress(0, 1, 8, -1, 0)) == "best 0 of 1 box, 8 worlds made"

@@ -48,10 +48,14 @@ def parse_seek_progress(line):
         return None
 
 
+def _boxes(count):
+    return "1 box" if count == 1 else f"{count} boxes"
+
+
 def seek_progress_text(progress):
     """'best 5 of 6 boxes (world 418), 3,120 worlds made', and how many meet the goal once some do."""
     best = f" (world {progress.best_world})" if progress.best_world >= 0 else ""
-    text = (f"best {progress.boxes_met} of {progress.box_count} boxes{best}, "
+    text = (f"best {progress.boxes_met} of {_boxes(progress.box_count)}{best}, "
             f"{progress.worlds_made:,} worlds made")
     if progress.worlds_meeting_goal:
         text += f", {progress.worlds_meeting_goal:,} meet all"
@@ -97,15 +101,15 @@ def seek_outcome_text(outcome, want):
     made = f"{outcome.worlds_made:,} worlds made in {outcome.seconds:.1f} s"
     found = list(outcome.found)
     noun = "world meets" if len(found) == 1 else "worlds meet"
+    every = "the box" if outcome.boxes == 1 else f"all {outcome.boxes} boxes"
     if outcome.reached:
-        return f"Goal reached: {len(found)} {noun} all {outcome.boxes} boxes ({_world_list(found)}); {made}"
+        return f"Goal reached: {len(found)} {noun} {every} ({_world_list(found)}); {made}"
     if found:
-        return (f"Budget spent: {len(found)} {noun} all {outcome.boxes} boxes ({_world_list(found)}) of "
-                f"{want} wanted; {made}")
+        return f"Budget spent: {len(found)} {noun} {every} ({_world_list(found)}) of {want} wanted; {made}"
     if outcome.best < 0:
-        return f"Budget spent: no world meets any of the {outcome.boxes} boxes; {made}"
-    return (f"Budget spent: best world {outcome.best} meets {outcome.best_boxes_met} of {outcome.boxes} "
-            f"boxes; {made}")
+        return f"Budget spent: no world meets any of the {_boxes(outcome.boxes)}; {made}"
+    return (f"Budget spent: best world {outcome.best} meets {outcome.best_boxes_met} of {_boxes(outcome.boxes)}; "
+            f"{made}")
 
 
 @dataclass(frozen=True)
@@ -266,7 +270,8 @@ class EngineRun:
         if code in (None, 0) or (code == 130 and self.cancel_requested):
             return None
         lines = [m for m in self.messages() if m.strip()]
-        text = lines[0] if lines else f"mwb-engine exited with code {code}"
+        # Said in the user's words: what went wrong, not which program noticed.
+        text = lines[0].replace("mwb-engine: ", "", 1) if lines else f"mwb-engine exited with code {code}"
         # "mwb-engine: invalid scene:" is a heading; the problem is on the next line.
         if text.endswith(":") and len(lines) > 1:
             text = f"{text} {lines[1].strip()}"

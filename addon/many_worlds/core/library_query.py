@@ -129,13 +129,12 @@ class LibraryQuery:
 
     def native_box(self, spec):
         """The module's QueryBox of a BoxSpec; its `after` counts in the list it is queried with."""
-        ordered = {"after": int(spec.after)} if spec.after >= 0 else {}
         return self.native.QueryBox(
             np.asarray(spec.view, dtype=np.float64).reshape(4, 4),
             np.asarray(spec.projection, dtype=np.float64).reshape(4, 4),
             (float(spec.size[0]), float(spec.size[1])), tuple(float(v) for v in spec.rect),
             negative=bool(spec.negative), bodies=list(spec.bodies),
-            time_window=spec.time_window, swept=bool(spec.swept), **ordered)
+            time_window=spec.time_window, swept=bool(spec.swept), after=int(spec.after))
 
     def evaluate(self, specs: Sequence[BoxSpec]):
         """Run the boxes (AND; an ordered box counts when met after its predecessor) and store the

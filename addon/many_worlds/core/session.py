@@ -14,9 +14,10 @@ class Session:
         self.last_error = ""    # engine failure text, shown as a report
         self.sampling_scene = ""    # name of the scene being sampled
         self.sampling_library = ""  # absolute path the engine writes
-        self.run_label = "Sampling"  # what the engine run does: Sampling, Refining, Adding or Removing
+        self.run_label = "Sampling"  # what the engine run does: Sampling, Refining, Adding, Removing, Seeking
         self.sampling_range = None   # (first, end) worlds of the sampling run under way
         self.run_note = ""           # why the run writes where it does, when that is news to the user
+        self.run_follower = None     # what turns the run's progress into the panel's line (operators.sampling.start_run)
         self.export_warnings = []    # what the last export could not reproduce, one line per object and setting
 
     def close(self):
@@ -24,6 +25,7 @@ class Session:
             self.engine.cancel()
             self.engine.wait(30)
             self.engine = None
+        self.run_follower = None
         self.view = None
         self.query = None
         self.status = ""

@@ -1,5 +1,6 @@
 """Operators grouped by what the user does: sampling, browsing, querying, refining, changing
-which objects exist in worlds."""
-from . import browsing, changing, boxes, refining, sampling
+which objects exist in worlds, seeking a goal."""
+from . import browsing, changing, boxes, refining, sampling, seeking
 
-classes = (*sampling.classes, *browsing.classes, *boxes.classes, *refining.classes, *changing.classes)
+classes = (*sampling.classes, *browsing.classes, *boxes.classes, *refining.classes, *changing.classes,
+           *seeking.classes)

@@ -230,7 +230,7 @@ class MWB_OT_remove_box(bpy.types.Operator):
         if box is None:
             return {"CANCELLED"}
         settings = context.scene.mwb
-        settings.boxes.remove(index)
+        scene_boxes.remove_box(context.scene, index)
         settings.box_index = min(settings.box_index, len(settings.boxes) - 1)
         scene_boxes.refresh(context.scene)
         return {"FINISHED"}

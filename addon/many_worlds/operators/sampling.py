@@ -103,14 +103,17 @@ def start_sampling(context, finish_interrupted=True):
     return True, SESSION.status, warnings
 
 
-def start_run(scene, argv, library, label, status, note=""):
+def start_run(scene, argv, library, label, status, note="", follower=None):
     """Start the engine child `argv` writing `library`; the poller streams its worlds into the view.
 
-    label: what the run does ("Sampling", "Refining", "Adding", "Removing", "Updating"), for the panel and the
-    end of run message; status: the panel's line until the first progress arrives; note: said again
-    in the end of run message.
+    label: what the run does ("Sampling", "Refining", "Adding", "Removing", "Updating", "Seeking"),
+    for the panel and the end of run message; status: the panel's line until the first progress
+    arrives; note: said again in the end of run message; follower: for a run whose progress is
+    more than worlds done, an object whose `follow(scene, run)` (each poll while it runs) and
+    `ended(scene, run, stored)` (once it ended, unless it failed) return the panel's line.
     """
     SESSION.run_note = note
+    SESSION.run_follower = follower
     SESSION.engine = engine_process.EngineRun(argv)
     SESSION.sampling_scene = scene.name
     SESSION.sampling_library = library
@@ -149,8 +152,10 @@ def poll_sampling():
     if scene is not None and _stream_worlds(scene):
         browsing.tag_redraw_all()
     done, total, _ = run.progress()
+    follower = SESSION.run_follower
     if not finished:
-        SESSION.status = f"{SESSION.run_label}: {done} / {total} worlds"
+        SESSION.status = (follower.follow(scene, run) if follower is not None and scene is not None
+                          else f"{SESSION.run_label}: {done} / {total} worlds")
         _set_status_text(f"Many Worlds: {SESSION.status} (Esc to cancel)")
         return POLL_INTERVAL_S
     failure = run.failure()
@@ -162,6 +167,8 @@ def poll_sampling():
         SESSION.last_error = failure
         SESSION.status = f"{SESSION.run_label} failed: {failure}"
         print(f"Many Worlds: {SESSION.status}", file=sys.stderr)
+    elif follower is not None and scene is not None:
+        SESSION.status = follower.ended(scene, run, stored)
     elif run.cancel_requested:
         SESSION.status = f"{SESSION.run_label} cancelled; the library keeps {stored} worlds"
         _remember_interruption(scene, True)
@@ -170,6 +177,7 @@ def poll_sampling():
         made = FINISHED_TEXT.get(SESSION.run_label, "{done} new worlds").format(done=done)
         SESSION.status = f"{made}{SESSION.run_note}; the library holds {stored}"
     SESSION.engine = None
+    SESSION.run_follower = None
     _set_status_text(None)
     browsing.tag_redraw_all()
     return None
@@ -274,7 +282,7 @@ class MWB_OT_sample(FollowsEngineRun, bpy.types.Operator):
 
 
 class MWB_OT_cancel_sampling(bpy.types.Operator):
-    """Stop sampling, refining, adding or removing; every finished world stays in the library"""
+    """Stop sampling, refining, adding, removing or seeking; every finished world stays in the library"""
     bl_idname = "mwb.cancel_sampling"
     bl_label = "Cancel Sampling"
 

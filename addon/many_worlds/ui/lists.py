@@ -68,7 +68,8 @@ class MWB_UL_boxes(bpy.types.UIList):
         row.prop(item, "enabled", text="")
         row.prop(item, "negative", text="", icon="REMOVE" if item.negative else "ADD", toggle=True)
         bodies = ", ".join(b.name for b in item.bodies) or "no bodies"
-        extras = (" [t]" if item.use_time_window else "") + (" [swept]" if item.swept else "")
+        extras = ((" [t]" if item.use_time_window else "") + (" [swept]" if item.swept else "")
+                  + (f" [after {item.after_box + 1}]" if item.after_box >= 0 else ""))
         row.label(text=f"Box {index + 1}: {bodies}{extras}")
         region_3d = getattr(context.space_data, "region_3d", None)
         area = context.area

@@ -166,7 +166,29 @@ class MWB_PT_query(SidebarPanel, bpy.types.Panel):
             sub.active = box.use_time_window
             sub.prop(box, "time_start_s")
             sub.prop(box, "time_end_s")
-            col.prop(box, "swept")
+            row = col.row(align=True)
+            row.prop(box, "swept")
+            row.prop(box, "after")
+        self.draw_seek(context, layout)
+
+    @staticmethod
+    def draw_seek(context, layout):
+        """Goal search: every enabled box, in its order, by refining worlds."""
+        settings = context.scene.mwb
+        layout.separator()
+        col = layout.column(align=True)
+        col.prop(settings, "seek_want")
+        col.prop(settings, "seek_budget_worlds")
+        col.prop(settings, "seek_budget_s")
+        if SESSION.engine is None:
+            layout.operator("mwb.seek", icon="VIEWZOOM")
+        else:
+            layout.operator("mwb.cancel_sampling", text=f"Cancel {SESSION.run_label}", icon="CANCEL")
+        if SESSION.run_label == "Seeking":
+            if SESSION.last_error:
+                wrapped_labels(layout, context, SESSION.last_error, "ERROR")
+            elif SESSION.status:
+                wrapped_labels(layout, context, SESSION.status, "INFO")
 
 
 class MWB_PT_ranking(LibraryPanel, bpy.types.Panel):

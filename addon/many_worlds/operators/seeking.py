@@ -1,0 +1,112 @@
+"""Seek: refine the open library's worlds until some meet every enabled query box.
+
+The goal is the enabled boxes, each box met after the one it is ordered after (if that one is
+enabled too). `mwb-engine seek` refines worlds again and again, appending each to the library as
+it is made; the run goes through the sampling poller, so worlds stream into the list and the
+viewport, Esc / Cancel stops it and keeps every world made, and only one engine run exists at a
+time. Whenever the engine names a new best world, it is selected and previewed as if clicked in
+the Worlds list.
+"""
+import os
+
+import bpy
+
+from .. import scene_boxes
+from ..core import engine as engine_process
+from ..core import goal as core_goal
+from ..core import paths
+from ..core.session import SESSION
+from .sampling import FollowsEngineRun, start_run
+
+
+def seek_problem(scene):
+    """Why a seek cannot start now (one line), or ''."""
+    if SESSION.engine is not None:
+        return f"{SESSION.run_label} is running; wait for it or cancel it first"
+    if SESSION.view is None:
+        return "Open or sample a library first"
+    if not scene_boxes.enabled_specs(scene, SESSION.view):
+        return "Draw a box first: the goal is every enabled box (over bodies the library has)"
+    return ""
+
+
+class SeekFollower:
+    """The panel's line while a seek runs and when it ends; selects each new best world."""
+
+    def __init__(self, want, box_count):
+        self.want = want
+        self.box_count = box_count
+        self.selected = -1
+
+    def _select(self, scene, world):
+        """Select and preview `world` once it is in the view (the Worlds list's own path)."""
+        view = SESSION.view
+        if world < 0 or world == self.selected or view is None or world not in view.world_indices:
+            return
+        scene.mwb.world_list_index = view.world_indices.index(world)
+        self.selected = world
+
+    def follow(self, scene, run):
+        progress = run.seek_progress()
+        if progress is None:
+            return f"Seeking {self.box_count} boxes: first worlds under way"
+        self._select(scene, progress.best_world)
+        return f"Seeking: {engine_process.seek_progress_text(progress)}"
+
+    def ended(self, scene, run, stored):
+        outcome = engine_process.parse_seek_outcome(run.summary())
+        progress = run.seek_progress()
+        if outcome is not None:
+            self._select(scene, outcome.best)
+        elif progress is not None:
+            self._select(scene, progress.best_world)
+        if run.cancel_requested:
+            where = f"{engine_process.seek_progress_text(progress)}; " if progress is not None else ""
+            return f"Seek cancelled: {where}the library keeps {stored:,} worlds"
+        if outcome is None:
+            return f"Seek ended without a summary; the library holds {stored:,} worlds"
+        return engine_process.seek_outcome_text(outcome, self.want)
+
+
+def start_seek(context):
+    """Write the goal of the enabled boxes beside the open library and start the engine seeking.
+    Returns (ok, message)."""
+    scene = context.scene
+    settings = scene.mwb
+    problem = seek_problem(scene)
+    if problem:
+        return False, problem
+    view = SESSION.view
+    specs = scene_boxes.enabled_specs(scene, view)
+    try:
+        goal_path = core_goal.write_goal(paths.goal_json_path(view.path), specs)
+        engine = paths.engine_path()
+    except (ValueError, OSError) as error:
+        return False, str(error)
+    argv = engine_process.seek_command(engine, view.path, goal_path, settings.seek_want,
+                                       settings.seek_budget_worlds, settings.seek_budget_s,
+                                       threads=settings.threads, as_json=True)
+    noun = "world" if settings.seek_want == 1 else "worlds"
+    start_run(scene, argv, view.path, "Seeking",
+              f"Seeking {settings.seek_want} {noun} meeting {len(specs)} boxes in {os.path.basename(view.path)}",
+              follower=SeekFollower(settings.seek_want, len(specs)))
+    return True, SESSION.status
+
+
+class MWB_OT_seek(FollowsEngineRun, bpy.types.Operator):
+    """Refine worlds until some meet every enabled box (in their order); new worlds stream in and
+    the best one is previewed (Esc cancels; every world made stays)"""
+    bl_idname = "mwb.seek"
+    bl_label = "Seek"
+
+    @classmethod
+    def poll(cls, context):
+        return SESSION.engine is None and SESSION.view is not None
+
+    def _start(self, context):
+        ok, message = start_seek(context)
+        self.report({"INFO"} if ok else {"ERROR"}, message)
+        return ok
+
+
+classes = (MWB_OT_seek,)

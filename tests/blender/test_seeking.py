@@ -1,0 +1,178 @@
+"""Seek through the add-on on the quick-start example: the enabled boxes are the goal, the real
+engine child refines worlds that stream into the open library, the best world is selected and
+previewed, the panel's line says how it ended, Esc keeps every world made, and mistakes read as
+one line."""
+import os
+import shutil
+import subprocess
+import time
+
+import bpy
+import pytest
+
+from conftest import ROOT, sample_and_wait
+
+from many_worlds import cli, scene_boxes
+from many_worlds.core import engine as engine_process
+from many_worlds.core import goal, paths
+from many_worlds.core.session import SESSION
+from many_worlds.operators import sampling
+
+QUICKSTART = os.path.join(ROOT, "blend_examples", "quickstart", "quickstart.blend")
+# Rare together: in about one world in a hundred the marble ends in the left bin, the cone in the
+# middle one and the pill in the right one (each in the run's last second). Fractions of the scene
+# camera's view over each bin, apart from its neighbours.
+GOAL = (("Marble", (0.32, 0.22, 0.38, 0.40)), ("Cone", (0.40, 0.19, 0.46, 0.37)),
+        ("Pill", (0.50, 0.15, 0.557, 0.33)))
+LAST_SECOND = (3.0, 4.0)
+
+
+def engine_has_seek():
+    result = subprocess.run([paths.engine_path(), "seek"], capture_output=True, text=True)
+    return "unknown command 'seek'" not in result.stderr
+
+
+needs_seek = pytest.mark.skipif(not engine_has_seek(), reason="the built mwb-engine has no 'seek' command yet")
+
+
+def add_goal_boxes():
+    view, projection, (width, height) = cli.camera_view("Camera")
+    for body, (x0, y0, x1, y1) in GOAL:
+        rect = (x0 * width, y0 * height, x1 * width, y1 * height)
+        assert bpy.ops.mwb.add_box(rect=rect, view_matrix=view.ravel().tolist(),
+                                   projection_matrix=projection.ravel().tolist(),
+                                   region_size=(int(width), int(height)), bodies=body) == {"FINISHED"}
+        box = bpy.context.scene.mwb.boxes[-1]
+        box.use_time_window, box.time_start_s, box.time_end_s = True, *LAST_SECOND
+    return bpy.context.scene.mwb.boxes
+
+
+@pytest.fixture
+def quickstart(tmp_path):
+    """The quick-start example saved in a temporary folder with 8 sampled worlds."""
+    blend = tmp_path / "quickstart.blend"
+    shutil.copy(QUICKSTART, blend)
+    bpy.ops.wm.open_mainfile(filepath=str(blend))
+    sample_and_wait(8, threads=2)
+    assert len(SESSION.view.world_indices) == 8
+    return blend
+
+
+def boxes_met(world):
+    """The boxes a world meets, as the add-on's query (Ranking's Boxes Met) counts them."""
+    lq = scene_boxes.library_query()
+    return int(lq.result.boxes_satisfied[SESSION.view.world_indices.index(world)])
+
+
+def seek_and_follow(want, budget_worlds, timeout_s=300):
+    """Press Seek and pump the poller to the end, keeping every panel line and selected world seen.
+    Returns (EngineRun, [(status, selected world)])."""
+    settings = bpy.context.scene.mwb
+    settings.seek_want, settings.seek_budget_worlds, settings.threads = want, budget_worlds, 2
+    assert bpy.ops.mwb.seek() == {"FINISHED"}
+    run = SESSION.engine
+    assert run is not None and SESSION.run_label == "Seeking"
+    seen = []
+    deadline = time.monotonic() + timeout_s
+    while sampling.poll_sampling() is not None:
+        assert time.monotonic() < deadline, "the seek did not end in time"
+        seen.append((SESSION.status, settings.selected_world))
+        time.sleep(0.05)
+    return run, seen
+
+
+@needs_seek
+def test_seek_refines_until_a_world_meets_every_box_and_previews_the_best(quickstart):
+    add_goal_boxes()
+    before = set(SESSION.view.world_indices)
+    assert not any(boxes_met(w) == 3 for w in before), "the 8 first worlds should not meet the goal yet"
+    run, seen = seek_and_follow(want=1, budget_worlds=600)
+    assert SESSION.last_error == "", SESSION.last_error
+    outcome = engine_process.parse_seek_outcome(run.summary())
+    assert outcome is not None, run.summary()
+    settings = bpy.context.scene.mwb
+    made = set(SESSION.view.world_indices) - before
+    # Worlds streamed into the open view and the list, and were queried with the boxes.
+    assert len(made) == outcome.worlds_made > 0
+    assert [item.world_index for item in settings.worlds] == SESSION.view.world_indices
+    assert scene_boxes.library_query().index.world_count == len(SESSION.view.world_indices)
+    # The panel followed the best world while it ran, and its preview is the best world.
+    progress = [status for status, _ in seen if status.startswith("Seeking: best")]
+    assert progress, [status for status, _ in seen][:5]
+    assert settings.selected_world == outcome.best and settings.previewing
+    assert settings.worlds[settings.world_list_index].world_index == outcome.best
+    # The engine and the add-on count the same boxes for it.
+    assert boxes_met(outcome.best) == outcome.best_boxes_met
+    if outcome.reached:
+        assert SESSION.status.startswith("Goal reached: 1 world meets all 3 boxes"), SESSION.status
+        assert all(boxes_met(w) == 3 and SESSION.view.matching[SESSION.view.world_indices.index(w)]
+                   for w in outcome.found)
+    else:
+        assert SESSION.status.startswith(f"Budget spent: best world {outcome.best} meets"), SESSION.status
+    # The goal the engine read is the boxes of the panel, by body.
+    written = goal.read_goal(paths.goal_json_path(SESSION.view.path))
+    names = SESSION.view.body_names
+    assert [names[s.bodies[0]] for s in written] == [body for body, _ in GOAL]
+    assert all(s.time_window == LAST_SECOND and s.after == -1 for s in written)
+
+
+@needs_seek
+def test_a_goal_some_worlds_meet_already_is_reached_at_once_and_the_best_previewed(quickstart):
+    boxes = add_goal_boxes()
+    boxes[1].enabled = boxes[2].enabled = False
+    meeting = sorted(w for w in SESSION.view.world_indices if boxes_met(w) == 1)
+    assert 2 <= len(meeting) < 8, "some of the first worlds should end with the marble in the left bin"
+    run, _ = seek_and_follow(want=2, budget_worlds=50)
+    outcome = engine_process.parse_seek_outcome(run.summary())
+    assert outcome.reached and sorted(outcome.found) == meeting and outcome.worlds_made == 0
+    assert len(SESSION.view.world_indices) == 8
+    assert SESSION.status.startswith(f"Goal reached: {len(meeting)} worlds meet the box ("), SESSION.status
+    settings = bpy.context.scene.mwb
+    assert settings.selected_world == outcome.best in meeting and settings.previewing
+
+
+@needs_seek
+def test_cancelling_a_seek_keeps_every_world_it_made(quickstart):
+    add_goal_boxes()
+    settings = bpy.context.scene.mwb
+    settings.seek_want, settings.seek_budget_worlds, settings.threads = 1000, 100000, 1
+    assert bpy.ops.mwb.seek() == {"FINISHED"}
+    deadline = time.monotonic() + 120
+    while SESSION.engine.seek_progress() is None or len(SESSION.view.world_indices) < 12:
+        assert time.monotonic() < deadline, "no worlds made in time"
+        sampling.poll_sampling()
+        time.sleep(0.05)
+    assert bpy.ops.mwb.cancel_sampling() == {"FINISHED"}
+    while sampling.poll_sampling() is not None:
+        assert time.monotonic() < deadline, "the engine did not stop in time"
+        time.sleep(0.05)
+    assert SESSION.last_error == "" and SESSION.status.startswith("Seek cancelled: best"), SESSION.status
+    from many_worlds import _native
+    stored = len(_native.Library(SESSION.view.path).world_indices)
+    assert stored == len(SESSION.view.world_indices) >= 12
+    assert f"the library keeps {stored:,} worlds" in SESSION.status
+
+
+def test_seek_needs_a_box_and_a_library(tmp_path, quickstart):
+    with pytest.raises(RuntimeError, match="Draw a box first"):
+        bpy.ops.mwb.seek()
+    boxes = add_goal_boxes()
+    for box in boxes:
+        box.enabled = False
+    with pytest.raises(RuntimeError, match="Draw a box first"):
+        bpy.ops.mwb.seek()
+    assert SESSION.engine is None
+    SESSION.view = None
+    assert not bpy.ops.mwb.seek.poll()
+
+
+@needs_seek
+def test_an_order_the_engine_refuses_reads_as_one_line(quickstart):
+    boxes = add_goal_boxes()
+    # A cycle written by a script past the After menu (which never offers one).
+    boxes[0]["after_box"], boxes[1]["after_box"] = 1, 0
+    run, _ = seek_and_follow(want=1, budget_worlds=10)
+    assert run.returncode() == 2
+    assert SESSION.last_error and "\n" not in SESSION.last_error and not SESSION.last_error.startswith("mwb-engine")
+    assert SESSION.status == f"Seeking failed: {SESSION.last_error}"
+    assert len(SESSION.view.world_indices) == 8
