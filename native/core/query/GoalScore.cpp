@@ -39,20 +39,36 @@ void visit_samples(const PathTree& path, double lo, double hi, Visit&& visit) {
 void score_positive_miss(const std::vector<PathTree>& paths, const std::vector<double>& radii, const QueryBox& box,
                          double lo, double hi, GoalScore& score) {
     double nearest = kInfinity;
+    uint32_t nearest_body = 0;
     for (uint32_t body : box.bodies) {
         if (!has_path(paths, body)) continue;
         const PathTree& path = paths[body];
         const double radius = radius_of(box, radii, body);
-        visit_samples(path, lo, hi, [&](size_t k, double t) {
+        visit_samples(path, lo, hi, [&](size_t k, double) {
             const double d = box.frustum.view_relative_distance(path.point(k), radius);
             if (d < nearest) {
                 nearest = d;
-                score.failure_time_s = t;
-                score.failing_bodies = {body};
+                nearest_body = body;
             }
         });
     }
-    score.closeness = std::isfinite(nearest) ? std::min(kMaxCloseness, 1 / (1 + nearest)) : 0.0;
+    if (!std::isfinite(nearest)) {
+        score.failure_time_s = std::max(lo, 0.0);
+        return;
+    }
+    score.closeness = std::min(kMaxCloseness, 1 / (1 + nearest));
+    score.failing_bodies = {nearest_body};
+    // Where it went wrong: the first moment the body was already about as near as it ever got in
+    // the window (a body that stopped short at 3 s failed then, not when the window opened).
+    const PathTree& path = paths[nearest_body];
+    const double radius = radius_of(box, radii, nearest_body);
+    const double near_enough = nearest * 1.05 + 0.02;
+    for (size_t k = 0; k < path.point_count() && path.time_of(k) <= hi; ++k)
+        if (box.frustum.view_relative_distance(path.point(k), radius) <= near_enough) {
+            score.failure_time_s = path.time_of(k);
+            return;
+        }
+    score.failure_time_s = std::max(lo, 0.0);
 }
 
 void score_negative_miss(const std::vector<PathTree>& paths, const std::vector<double>& radii, const QueryBox& box,

@@ -26,8 +26,9 @@ struct GoalScore {
     /// view_relative_distance of its bodies' paths within its window; a negative box the share of
     /// its window that no body spends inside. 0 when every box is met.
     double closeness = 0;
-    /// Where the first unmet box went wrong: a positive box the moment of closest approach, a
-    /// negative one the first entry (seconds); and the bodies to blame: the one that came
+    /// Where the first unmet box went wrong (seconds): for a positive box the first moment the
+    /// nearest body was already about as near (within 5% + 0.02 box sizes) as it came in the
+    /// window; for a negative box the first entry. And the bodies to blame: the one that came
     /// nearest, or those that entered, earliest first.
     double failure_time_s = 0;
     std::vector<uint32_t> failing_bodies;
