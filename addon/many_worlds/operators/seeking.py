@@ -37,6 +37,7 @@ class SeekFollower:
         self.want = want
         self.box_count = box_count
         self.selected = -1
+        self.shown = None   # the SeekProgress the panel shows
 
     def _select(self, scene, world):
         """Select and preview `world` once it is in the view (the Worlds list's own path)."""
@@ -48,10 +49,15 @@ class SeekFollower:
 
     def follow(self, scene, run):
         progress = run.seek_progress()
-        if progress is None:
+        view = SESSION.view
+        # The panel names a best world only once it has streamed in and can be selected.
+        if progress is not None and (progress.best_world < 0 or (
+                view is not None and progress.best_world in view.world_indices)):
+            self.shown = progress
+            self._select(scene, progress.best_world)
+        if self.shown is None:
             return f"Seeking {self.box_count} boxes: first worlds under way"
-        self._select(scene, progress.best_world)
-        return f"Seeking: {engine_process.seek_progress_text(progress)}"
+        return f"Seeking: {engine_process.seek_progress_text(self.shown)}"
 
     def ended(self, scene, run, stored):
         outcome = engine_process.parse_seek_outcome(run.summary())
