@@ -9,6 +9,7 @@ with the browser's own query. Prints a line per example and `BENCH seek_NAME_rea
 `BENCH seek_NAME_worlds` (worlds simulated, the first batch included) and `BENCH seek_NAME_s`.
 """
 import json
+import math
 import os
 import subprocess
 import sys
@@ -61,9 +62,12 @@ def camera_box(points, objects, *, negative=False, window=None, after=None):
             "time_window": window, "after": after}
 
 
-def top_box(x0, y0, x1, y1, objects, *, half_size=6.0, negative=False, window=None, after=None):
-    """A goal box seen from straight above (orthographic, the square |x|, |y| <= half_size)."""
-    view = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, -50, 0, 0, 0, 1]  # camera at z = 50 looking down
+def top_box(x0, y0, x1, y1, objects, *, half_size=6.0, negative=False, window=None, after=None, turned=False):
+    """A goal box seen from straight above (orthographic, the square |x|, |y| <= half_size), with
+    the view turned 45° about the vertical when `turned`."""
+    cos = math.sqrt(0.5) if turned else 1.0
+    sin = cos if turned else 0.0
+    view = [cos, sin, 0, 0, -sin, cos, 0, 0, 0, 0, 1, -50, 0, 0, 0, 1]  # camera at z = 50 looking down
     near, far = 1.0, 100.0
     s = 1 / half_size
     projection = [s, 0, 0, 0, 0, s, 0, 0, 0, 0, -2 / (far - near), -(far + near) / (far - near), 0, 0, 0, 1]
@@ -71,6 +75,23 @@ def top_box(x0, y0, x1, y1, objects, *, half_size=6.0, negative=False, window=No
     return {"view": view, "projection": projection, "viewport": [TOP_VIEW_SIZE, TOP_VIEW_SIZE],
             "rect": [to_px(x0), to_px(y0), to_px(x1), to_px(y1)], "objects": objects, "negative": negative,
             "time_window": window, "after": after}
+
+
+def fraction_box(fractions, objects, window):
+    """A goal box over a fraction (x0, y0, x1, y1) of the scene camera's view."""
+    view, projection, (width, height) = cli.camera_view(bpy.context.scene.camera.name)
+    x0, y0, x1, y1 = fractions
+    return {"view": np.asarray(view).ravel().tolist(), "projection": np.asarray(projection).ravel().tolist(),
+            "viewport": [width, height], "rect": [x0 * width, y0 * height, x1 * width, y1 * height],
+            "objects": objects, "negative": False, "time_window": window, "after": None}
+
+
+def quickstart_goal():
+    """Rare together (about one world in a hundred): the marble in the left bin, the cone in the
+    middle one and the pill in the right one, over the last second."""
+    return [fraction_box((0.32, 0.22, 0.38, 0.40), ["Marble"], [3.0, 4.0]),
+            fraction_box((0.40, 0.19, 0.46, 0.37), ["Cone"], [3.0, 4.0]),
+            fraction_box((0.50, 0.15, 0.557, 0.33), ["Pill"], [3.0, 4.0])]
 
 
 def marble_run_goal():
@@ -96,27 +117,40 @@ def pachinko_letters_goal():
 
 
 def spiral_staircase_goal():
-    """He falls from top to bottom without leaving the staircase's footprint: negative boxes all
-    round the footprint seen from above, on every body part; a positive box on the Pelvis at the
-    last steps at the end."""
-    parts = [o.name for o in bpy.data.objects if o.rigid_body is not None and o.rigid_body.type == "ACTIVE"]
-    r, big = 1.6, 6.0
+    """He falls from top to bottom without leaving the staircase's footprint: negative boxes on the
+    Pelvis all round the footprint seen from above (two square frames, one turned 45°: an octagon
+    round the 1.5 m treads), and a positive box on the Pelvis at the foot of the stairs (the
+    footprint's lowest 0.8 m as the camera sees it) in the last second."""
+    r, big = 1.65, 6.0
     frame = [(-big, -big, -r, big), (r, -big, big, big), (-r, -big, r, -r), (-r, r, r, big)]
-    boxes = [top_box(*rect, parts, negative=True) for rect in frame]
-    boxes.append(camera_box(corners(["Step46", "Step47", "Step48"], lift=0.5), ["Pelvis"], window=[9.0, 10.0]))
+    boxes = [top_box(*rect, ["Pelvis"], negative=True, turned=turned) for turned in (False, True) for rect in frame]
+    # Down the stairs, not off them: over every fourth step on the way, in turn.
+    steps = sorted(o.name for o in bpy.data.objects if o.name.startswith("Step"))
+    for k in range(3, len(steps) - 1, 4):
+        boxes.append(camera_box(corners(steps[k - 1:k + 2], lift=0.6), ["Pelvis"],
+                                after=len(boxes) - 1 if k > 3 else None))
+    foot = [Vector((x, y, z)) for x in (-1.5, 1.5) for y in (-1.5, 1.5) for z in (0.0, 0.8)]
+    end = bpy.context.scene.frame_end / bpy.context.scene.render.fps
+    boxes.append(camera_box(foot, ["Pelvis"], window=[end - 1.0, end], after=len(boxes) - 1))
     return boxes
 
 
 def trebuchet_tower_goal():
     """The rock hits the tower, and no block touches a bystander."""
     blocks = [o.name for o in bpy.data.objects if o.name.startswith("Block")]
-    boxes = [camera_box(corners(blocks), ["Rock"])]
+    # The rock over the tower as the camera sees it, while it flies in (about 3 to 3.5 s).
+    boxes = [camera_box(corners(blocks), ["Rock"], window=[2.5, 4.5])]
+    # Seen from above, so the tower behind a bystander is not in its box.
     for k in (1, 2, 3):
-        boxes.append(camera_box(corners([f"Bystander{k}"], pad=0.05), blocks, negative=True))
+        ob = bpy.data.objects[f"Bystander{k}"]
+        xs = [(ob.matrix_world @ Vector(c)).x for c in ob.bound_box]
+        ys = [(ob.matrix_world @ Vector(c)).y for c in ob.bound_box]
+        boxes.append(top_box(min(xs) - 0.05, min(ys) - 0.05, max(xs) + 0.05, max(ys) + 0.05, blocks, half_size=20.0,
+                             negative=True))
     return boxes
 
 
-GOALS = {"marble_run": marble_run_goal, "pachinko_letters": pachinko_letters_goal,
+GOALS = {"quickstart": quickstart_goal, "marble_run": marble_run_goal, "pachinko_letters": pachinko_letters_goal,
          "spiral_staircase": spiral_staircase_goal, "trebuchet_tower": trebuchet_tower_goal}
 
 

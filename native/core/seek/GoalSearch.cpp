@@ -29,6 +29,9 @@ constexpr double kBeforeWindow[] = {0.1, 0.25, 0.5, 1.0, 2.0};
 constexpr double kGridSpacing = 0.5;
 // Negative boxes entered by many bodies: the earliest few are refined.
 constexpr size_t kMaxFailingBodies = 8;
+// A refinement helps when a child meets another box or comes this much closer to the next one;
+// smaller gains would keep the search polishing one world instead of backing up.
+constexpr double kMeaningfulGain = 0.02;
 
 struct Branch {
     uint64_t frame = 0;
@@ -278,7 +281,7 @@ private:
             const double value = scores_.at(child).value();
             best_child = std::max(best_child, value);
         }
-        if (best_child > parent_value) failures_[world] = 0;
+        if (best_child > parent_value + kMeaningfulGain) failures_[world] = 0;
         else ++failures_[world];
     }
 

@@ -1,0 +1,212 @@
+// Goal files and the goal search on a small library: bad goals are refused in one line, corrupted
+// goal files never crash, the search is the same on 1 and 2 threads, and cancelling keeps worlds.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <map>
+
+#include "SceneFixtures.h"
+#include "library/LibraryReader.h"
+#include "library/LibraryWriter.h"
+#include "library/WorldDecoding.h"
+#include "sampler/Sampler.h"
+#include "scene/SceneJson.h"
+#include "seek/GoalJson.h"
+#include "seek/GoalSearch.h"
+#include "sim/PortableRandom.h"
+
+namespace mwb {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Seen from straight above (orthographic, |x|, |y| <= 2 m on a 400 px view): a box over the
+// floor's quarter x > 0, y > 0.
+std::string box_json(const std::string& objects, bool negative = false, const std::string& after = "null",
+                     const std::string& rect = "[200, 200, 400, 400]") {
+    return R"({"view": [1,0,0,0, 0,1,0,0, 0,0,1,-20, 0,0,0,1],
+               "projection": [0.5,0,0,0, 0,0.5,0,0, 0,0,-0.05,-1, 0,0,0,1],
+               "viewport": [400, 400], "rect": )" +
+           rect + R"(, "objects": )" + objects + R"(, "negative": )" + (negative ? "true" : "false") +
+           R"(, "time_window": [2.0, 3.0], "after": )" + after + "}";
+}
+
+std::string goal_json(const std::vector<std::string>& boxes) {
+    std::string text = R"({"boxes": [)";
+    for (size_t k = 0; k < boxes.size(); ++k) text += (k ? "," : "") + boxes[k];
+    return text + "]}";
+}
+
+TEST(GoalJson, NamesResolveToBodiesAndBadGoalsAreRefusedInOneLine) {
+    const Scene scene = fixtures::pile(4);
+    const std::vector<QueryBox> boxes =
+        goal_from_json(goal_json({box_json(R"(["Box1", "Box3"])"), box_json(R"(["Box0"])", true, "0")}), scene);
+    ASSERT_EQ(boxes.size(), 2u);
+    EXPECT_EQ(boxes[0].bodies, (std::vector<uint32_t>{static_cast<uint32_t>(scene.body_index("Box1")),
+                                                      static_cast<uint32_t>(scene.body_index("Box3"))}));
+    EXPECT_TRUE(boxes[1].negative);
+    EXPECT_EQ(boxes[1].after, 0);
+    EXPECT_DOUBLE_EQ(boxes[0].window.lo_s, 2.0);
+    auto refused = [&](const std::string& text, const std::string& says) {
+        try {
+            goal_from_json(text, scene);
+            ADD_FAILURE() << "accepted: " << text;
+        } catch (const GoalError& error) {
+            const std::string message = error.what();
+            EXPECT_NE(message.find(says), std::string::npos) << message;
+            EXPECT_EQ(message.find('\n'), std::string::npos) << message;
+        }
+    };
+    refused(goal_json({}), "no boxes");
+    refused(goal_json({box_json(R"(["Crate"])")}), "no object 'Crate'");
+    refused(goal_json({box_json(R"(["Box0"])", false, "1"), box_json(R"(["Box1"])", false, "0")}), "cycle");
+    refused(goal_json({box_json(R"(["Box0"])", false, "0")}), "itself");
+    refused(goal_json({box_json(R"(["Box0"])", false, "null", "[10, 10, 10, 50]")}), "empty");
+    refused("{\"boxes\": 3}", "no \"boxes\"");
+    refused("not json", "not JSON");
+}
+
+// Truncated and byte-mutated goal files: a GoalError or a goal, never a crash or another error.
+TEST(GoalJson, CorruptedGoalFilesAreRefusedCleanly) {
+    const Scene scene = fixtures::pile(4);
+    const std::string valid = goal_json({box_json(R"(["Box1"])"), box_json(R"(["Box0"])", true, "0")});
+    PortableRandom random(7);
+    int refused = 0;
+    for (int trial = 0; trial < 3000; ++trial) {
+        std::string text = valid;
+        if (trial % 3 == 0) {
+            text.resize(static_cast<size_t>(random.uniform(0, static_cast<double>(text.size()))));
+        } else {
+            const int edits = 1 + static_cast<int>(random.uniform(0, 4));
+            for (int e = 0; e < edits; ++e) {
+                const auto at = static_cast<size_t>(random.uniform(0, static_cast<double>(text.size() - 1)));
+                text[at] = "0123456789-.,:[]{}\"e ntrufalsBox"[static_cast<size_t>(random.uniform(0, 32))];
+            }
+        }
+        try {
+            goal_from_json(text, scene);
+        } catch (const GoalError&) {
+            ++refused;
+        }
+    }
+    EXPECT_GT(refused, 1000);
+}
+
+class Seek : public ::testing::Test {
+protected:
+    void SetUp() override {
+        dir_ = fs::temp_directory_path() / ("mwb_seek_test_" + std::to_string(::getpid()) + "_" +
+                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(dir_);
+        fs::create_directories(dir_);
+        scene_ = fixtures::pile(6, 96);
+        const RunHeader header{scene_to_json(scene_), SimulationParameters{}, CodecBounds{}, 3};
+        const CompiledScene compiled(scene_, header.parameters);
+        LibraryWriter writer(path("start.mwb"), header);
+        sample_worlds(compiled, header.base_seed, 0, 6, 2, [&](WorldResult&& w) { writer.append(w); });
+    }
+    void TearDown() override { fs::remove_all(dir_); }
+
+    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+    std::string copy_of_start(const std::string& name) const {
+        fs::copy_file(path("start.mwb"), path(name));
+        return path(name);
+    }
+
+    // Box0 and Box5 end in the quarter x > 0, y > 0 of the floor (negative: Box2 stays out of it).
+    SeekRequest request(int threads) const {
+        SeekRequest r;
+        r.boxes = goal_from_json(goal_json({box_json(R"(["Box0"])"), box_json(R"(["Box5"])"),
+                                            box_json(R"(["Box2"])", true)}),
+                                 scene_);
+        r.want = 1000;  // never met: the budget ends it
+        r.budget_worlds = 40;
+        r.seed = 5;
+        r.threads = threads;
+        r.children_per_branch = 4;
+        r.beam_width = 2;
+        return r;
+    }
+
+    // Each world's motion, by index.
+    static std::map<uint64_t, std::vector<double>> motion(const std::string& file) {
+        std::map<uint64_t, std::vector<double>> out;
+        const LibraryReader reader(file);
+        for (const StoredWorld& w : reader.worlds()) out[w.world_index] = decode_world_positions(w);
+        return out;
+    }
+
+    fs::path dir_;
+    Scene scene_;
+};
+
+TEST_F(Seek, TheSameLibraryGoalBudgetAndSeedGiveTheSameWorldsOnOneAndTwoThreads) {
+    const std::string one = copy_of_start("one.mwb"), two = copy_of_start("two.mwb");
+    const SeekOutcome a = seek_goal(one, request(1));
+    const SeekOutcome b = seek_goal(two, request(2));
+    EXPECT_EQ(a.worlds_made, 40u);
+    EXPECT_GT(a.refinements, 0u);
+    EXPECT_EQ(a.worlds_made, b.worlds_made);
+    EXPECT_EQ(a.best_world, b.best_world);
+    EXPECT_EQ(a.found, b.found);
+    EXPECT_DOUBLE_EQ(a.best_value, b.best_value);
+    const auto worlds_one = motion(one), worlds_two = motion(two);
+    EXPECT_EQ(worlds_one.size(), 6u + 40u - LibraryReader(one).rejections().size());
+    ASSERT_EQ(worlds_one.size(), worlds_two.size());
+    for (const auto& [index, positions] : worlds_one) {
+        ASSERT_TRUE(worlds_two.count(index)) << "world " << index;
+        EXPECT_EQ(positions, worlds_two.at(index)) << "world " << index;
+    }
+    // Every world it made is an ordinary refined world of the library, with its lineage.
+    const LibraryReader reader(one);
+    size_t refined = 0;
+    for (const StoredWorld& w : reader.worlds()) refined += !w.lineage.empty();
+    EXPECT_GE(refined, 30u);
+}
+
+TEST_F(Seek, CancellingKeepsEveryWorldMadeSoFar) {
+    const std::string file = copy_of_start("cancel.mwb");
+    SamplingProgress progress;
+    SeekRequest r = request(2);
+    r.budget_worlds = 1000;
+    uint64_t made_when_cancelled = 0;
+    const SeekOutcome outcome = seek_goal(file, r,
+                                          [&](const SeekStatus& s) {
+                                              if (s.worlds_made >= 12 && !progress.cancel) {
+                                                  made_when_cancelled = s.worlds_made;
+                                                  progress.cancel = true;
+                                              }
+                                          },
+                                          &progress);
+    EXPECT_TRUE(outcome.cancelled);
+    EXPECT_FALSE(outcome.reached);
+    EXPECT_EQ(outcome.worlds_made, made_when_cancelled);
+    // The file holds the first worlds and every world made, each readable.
+    const LibraryReader reader(file);
+    EXPECT_TRUE(reader.warnings().empty());
+    EXPECT_EQ(reader.worlds().size() + reader.rejections().size(), 6u + made_when_cancelled);
+    for (const StoredWorld& w : reader.worlds()) EXPECT_FALSE(decode_world_positions(w).empty());
+}
+
+TEST_F(Seek, AGoalMetAlreadyIsFoundWithoutNewWorldsAndBadRequestsAreRefused) {
+    const std::string file = copy_of_start("met.mwb");
+    SeekRequest r = request(2);
+    // A box every world meets: Box1 anywhere on the floor, seen from above.
+    r.boxes = goal_from_json(goal_json({box_json(R"(["Box1"])", false, "null", "[0, 0, 400, 400]")}), scene_);
+    r.want = 3;
+    const SeekOutcome outcome = seek_goal(file, r);
+    EXPECT_TRUE(outcome.reached);
+    EXPECT_EQ(outcome.worlds_made, 0u);
+    EXPECT_EQ(outcome.found.size(), 6u);
+    SeekRequest none = request(2);
+    none.boxes.clear();
+    EXPECT_THROW(seek_goal(file, none), GoalError);
+    SeekRequest broke = request(2);
+    broke.budget_worlds = 0;
+    EXPECT_THROW(seek_goal(file, broke), GoalError);
+    EXPECT_EQ(LibraryReader(file).worlds().size(), 6u);
+}
+
+}  // namespace
+}  // namespace mwb
