@@ -33,7 +33,7 @@ FIRST_BATCH = 32
 ARGS = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 BUDGET_WORLDS = int(ARGS[0]) if ARGS else 20000
 BUDGET_S = float(ARGS[1]) if len(ARGS) > 1 else 600.0
-TOP_VIEW_SIZE = 1000  # pixels of the top view's square viewport
+TOP_VIEW_SIZE = 1000  # pixels of the orthographic views' square viewport
 
 
 def corners(names, lift=0.0, pad=0.0):
@@ -62,12 +62,14 @@ def camera_box(points, objects, *, negative=False, window=None, after=None):
             "time_window": window, "after": after}
 
 
-def top_box(x0, y0, x1, y1, objects, *, half_size=6.0, negative=False, window=None, after=None, turned=False):
-    """A goal box seen from straight above (orthographic, the square |x|, |y| <= half_size), with
-    the view turned 45° about the vertical when `turned`."""
-    cos = math.sqrt(0.5) if turned else 1.0
-    sin = cos if turned else 0.0
-    view = [cos, sin, 0, 0, -sin, cos, 0, 0, 0, 0, 1, -50, 0, 0, 0, 1]  # camera at z = 50 looking down
+def ortho_box(right, up, x0, y0, x1, y1, objects, *, half_size=6.0, negative=False, window=None, after=None):
+    """A goal box seen through an orthographic view (a square of half_size metres) whose screen x
+    and y run along the world directions `right` and `up`: it holds every point whose coordinates
+    along them lie in [x0, x1] × [y0, y1], at any depth."""
+    right, up = Vector(right).normalized(), Vector(up).normalized()
+    back = right.cross(up)
+    eye = back * 50.0
+    view = [*right, -right.dot(eye), *up, -up.dot(eye), *back, -back.dot(eye), 0, 0, 0, 1]
     near, far = 1.0, 100.0
     s = 1 / half_size
     projection = [s, 0, 0, 0, 0, s, 0, 0, 0, 0, -2 / (far - near), -(far + near) / (far - near), 0, 0, 0, 1]
@@ -75,6 +77,14 @@ def top_box(x0, y0, x1, y1, objects, *, half_size=6.0, negative=False, window=No
     return {"view": view, "projection": projection, "viewport": [TOP_VIEW_SIZE, TOP_VIEW_SIZE],
             "rect": [to_px(x0), to_px(y0), to_px(x1), to_px(y1)], "objects": objects, "negative": negative,
             "time_window": window, "after": after}
+
+
+def top_box(x0, y0, x1, y1, objects, *, half_size=6.0, negative=False, window=None, after=None, turned=False):
+    """A goal box seen from straight above, the view turned 45° about the vertical when `turned`."""
+    c = math.sqrt(0.5)
+    right, up = ((c, c, 0), (-c, c, 0)) if turned else ((1, 0, 0), (0, 1, 0))
+    return ortho_box(right, up, x0, y0, x1, y1, objects, half_size=half_size, negative=negative, window=window,
+                     after=after)
 
 
 def fraction_box(fractions, objects, window):
@@ -119,19 +129,23 @@ def pachinko_letters_goal():
 def spiral_staircase_goal():
     """He falls from top to bottom without leaving the staircase's footprint: negative boxes on the
     Pelvis all round the footprint seen from above (two square frames, one turned 45°: an octagon
-    round the 1.5 m treads), and a positive box on the Pelvis at the foot of the stairs (the
-    footprint's lowest 0.8 m as the camera sees it) in the last second."""
+    round the treads); positive boxes on the Pelvis over every fourth step on the way, in turn
+    (each seen side-on across its tread, from the tread up to 0.7 m above it); and at the end,
+    at the foot of the stairs (below 0.8 m, seen from the front)."""
     r, big = 1.65, 6.0
     frame = [(-big, -big, -r, big), (r, -big, big, big), (-r, -big, r, -r), (-r, r, r, big)]
     boxes = [top_box(*rect, ["Pelvis"], negative=True, turned=turned) for turned in (False, True) for rect in frame]
-    # Down the stairs, not off them: over every fourth step on the way, in turn.
-    steps = sorted(o.name for o in bpy.data.objects if o.name.startswith("Step"))
+    steps = sorted((o for o in bpy.data.objects if o.name.startswith("Step")), key=lambda o: o.name)
     for k in range(3, len(steps) - 1, 4):
-        boxes.append(camera_box(corners(steps[k - 1:k + 2], lift=0.6), ["Pelvis"],
-                                after=len(boxes) - 1 if k > 3 else None))
-    foot = [Vector((x, y, z)) for x in (-1.5, 1.5) for y in (-1.5, 1.5) for z in (0.0, 0.8)]
+        centre = steps[k].matrix_world.translation
+        top = max((steps[k].matrix_world @ Vector(c)).z for c in steps[k].bound_box)
+        radial = Vector((centre.x, centre.y, 0)).normalized()
+        tangent = Vector((-radial.y, radial.x, 0))
+        boxes.append(ortho_box(tangent, (0, 0, 1), -0.35, top - 0.1, 0.35, top + 0.7, ["Pelvis"],
+                               after=len(boxes) - 1 if k > 3 else None))
     end = bpy.context.scene.frame_end / bpy.context.scene.render.fps
-    boxes.append(camera_box(foot, ["Pelvis"], window=[end - 1.0, end], after=len(boxes) - 1))
+    boxes.append(ortho_box((1, 0, 0), (0, 0, 1), -r, -0.1, r, 0.8, ["Pelvis"], window=[end - 1.0, end],
+                           after=len(boxes) - 1))
     return boxes
 
 

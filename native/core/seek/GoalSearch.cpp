@@ -183,8 +183,9 @@ private:
             bodies.erase(std::unique(bodies.begin(), bodies.end()), bodies.end());
             points.insert({static_cast<uint64_t>(std::floor(t * hz)), std::move(bodies)});
         };
-        const std::set<uint32_t> failing_set(failing.begin(), failing.end());
-        // Collisions of the bodies that missed, and of the simulated bodies that hit them.
+        // The bodies that missed, with everything jointed to them: an arm's impact turns the body.
+        const std::set<uint32_t> failing_set = jointed_with(failing);
+        // Collisions of those bodies, and of the simulated bodies that hit them.
         std::set<uint32_t> hitters;
         for (const ContactEvent& c : w.contacts) {
             if (c.body < 0 || !failing_set.count(static_cast<uint32_t>(c.body))) continue;
@@ -205,6 +206,25 @@ private:
         if (points.size() < 4)
             for (double t = lower; t < upper; t += kGridSpacing) add(t, failing);
         return {points.begin(), points.end()};
+    }
+
+    // `bodies` and every body joined to them through enabled constraints, transitively.
+    std::set<uint32_t> jointed_with(const std::vector<uint32_t>& bodies) const {
+        std::set<uint32_t> group(bodies.begin(), bodies.end());
+        for (bool grew = true; grew;) {
+            grew = false;
+            for (const Constraint& c : scene_.constraints) {
+                if (!c.enabled) continue;
+                const int a = scene_.body_index(c.body_a), b = scene_.body_index(c.body_b);
+                if (a < 0 || b < 0 || !simulated(static_cast<uint32_t>(a)) || !simulated(static_cast<uint32_t>(b))) continue;
+                const bool has_a = group.count(static_cast<uint32_t>(a)) > 0, has_b = group.count(static_cast<uint32_t>(b)) > 0;
+                if (has_a != has_b) {
+                    group.insert(static_cast<uint32_t>(has_a ? b : a));
+                    grew = true;
+                }
+            }
+        }
+        return group;
     }
 
     // When the last of `bodies` came to rest for good (the world's end if one never did).
