@@ -29,7 +29,7 @@ from many_worlds import _native, cli  # noqa: E402
 from many_worlds.core import paths  # noqa: E402
 from many_worlds.export import export_and_validate  # noqa: E402
 
-FIRST_BATCH = 32
+FIRST_BATCH = int(os.environ.get("MWB_SEEK_FIRST_BATCH", 32))
 ARGS = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 BUDGET_WORLDS = int(ARGS[0]) if ARGS else 20000
 BUDGET_S = float(ARGS[1]) if len(ARGS) > 1 else 600.0
@@ -136,16 +136,24 @@ def spiral_staircase_goal():
     frame = [(-big, -big, -r, big), (r, -big, big, big), (-r, -big, r, -r), (-r, r, r, big)]
     boxes = [top_box(*rect, ["Pelvis"], negative=True, turned=turned) for turned in (False, True) for rect in frame]
     steps = sorted((o for o in bpy.data.objects if o.name.startswith("Step")), key=lambda o: o.name)
-    for k in range(3, len(steps) - 1, 4):
-        centre = steps[k].matrix_world.translation
-        top = max((steps[k].matrix_world @ Vector(c)).z for c in steps[k].bound_box)
+
+    def tread_top(step):
+        return max((step.matrix_world @ Vector(c)).z for c in step.bound_box)
+
+    def side_on(step, half_width, z_low, z_high, **kw):
+        """A box seen side-on across a step's tread: half_width metres either side of the step's
+        radial line, heights z_low to z_high."""
+        centre = step.matrix_world.translation
         radial = Vector((centre.x, centre.y, 0)).normalized()
-        tangent = Vector((-radial.y, radial.x, 0))
-        boxes.append(ortho_box(tangent, (0, 0, 1), -0.35, top - 0.1, 0.35, top + 0.7, ["Pelvis"],
-                               after=len(boxes) - 1 if k > 3 else None))
+        return ortho_box((-radial.y, radial.x, 0), (0, 0, 1), -half_width, z_low, half_width, z_high, ["Pelvis"], **kw)
+
+    for k in range(3, len(steps) - 4, 4):
+        top = tread_top(steps[k])
+        boxes.append(side_on(steps[k], 0.35, top - 0.1, top + 0.7, after=len(boxes) - 1 if k > 3 else None))
+    # At the end: on the last three steps (within 0.7 m of a tread) or on the ground at their foot.
     end = bpy.context.scene.frame_end / bpy.context.scene.render.fps
-    boxes.append(ortho_box((1, 0, 0), (0, 0, 1), -r, -0.1, r, 0.8, ["Pelvis"], window=[end - 1.0, end],
-                           after=len(boxes) - 1))
+    boxes.append(side_on(steps[-2], 0.8, -0.1, tread_top(steps[-3]) + 0.7, window=[end - 1.0, end],
+                         after=len(boxes) - 1))
     return boxes
 
 

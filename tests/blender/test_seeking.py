@@ -103,12 +103,12 @@ def test_seek_refines_until_a_world_meets_every_box_and_previews_the_best(quicks
     assert settings.worlds[settings.world_list_index].world_index == outcome.best
     # The engine and the add-on count the same boxes for it.
     assert boxes_met(outcome.best) == outcome.best_boxes_met
-    if outcome.reached:
-        assert SESSION.status.startswith("Goal reached: 1 world meets all 3 boxes"), SESSION.status
-        assert all(boxes_met(w) == 3 and SESSION.view.matching[SESSION.view.world_indices.index(w)]
-                   for w in outcome.found)
-    else:
-        assert SESSION.status.startswith(f"Budget spent: best world {outcome.best} meets"), SESSION.status
+    # Random sampling meets this goal in about one world in a hundred; the search within 600
+    # (refining, and sampling afresh when refinement stops getting nearer).
+    assert outcome.reached, SESSION.status
+    assert SESSION.status.startswith("Goal reached: 1 world meets all 3 boxes"), SESSION.status
+    assert outcome.found and all(boxes_met(w) == 3 and SESSION.view.matching[SESSION.view.world_indices.index(w)]
+                                 for w in outcome.found)
     # The goal the engine read is the boxes of the panel, by body.
     written = goal.read_goal(paths.goal_json_path(SESSION.view.path))
     names = SESSION.view.body_names

@@ -126,9 +126,9 @@ private:
         for (uint64_t w : fresh) {
             GoalScore score = index_.score(w, request_.boxes, order_);
             if (score.first_unmet < 0) found_.insert(w);
-            // A world that gets exactly as far as one already scored (to the last digit of its
-            // closeness) is, for the goal, the same world: refining both would repeat work.
-            else if (!seen_values_.insert(score.value()).second) spent_.insert(w);
+            // A world that gets as far as one already scored (to a thousandth of a box) is, for
+            // the goal, the same world: refining both would repeat work.
+            else if (!seen_values_.insert(std::llround(score.value() * 1000)).second) spent_.insert(w);
             const auto key = std::make_pair(-score.value(), w);
             ranking_.insert(key);
             scores_.emplace(w, std::move(score));
@@ -295,14 +295,37 @@ private:
         ++refinements_;
         take_new_worlds();
         const double parent_value = scores_.at(world).value();
+        const uint32_t parent_failures = failures_[world];
         double best_child = -1;
         for (uint64_t child = outcome.first_child; child < outcome.first_child + refine.count; ++child) {
             if (!scores_.count(child)) continue;
             const double value = scores_.at(child).value();
             best_child = std::max(best_child, value);
+            // A child no better than its parent failed where the parent did: it starts backing
+            // up from there instead of trying the same late branch points again.
+            failures_[child] = value > parent_value + kMeaningfulGain ? 0 : parent_failures + 1;
         }
         if (best_child > parent_value + kMeaningfulGain) failures_[world] = 0;
         else ++failures_[world];
+        note_progress();
+    }
+
+    // Fresh sampled worlds when refinement has stopped getting anywhere: the search never does
+    // worse than sampling, and a new start may succeed where every branch of the old ones failed.
+    void note_progress() {
+        const double best = ranking_.empty() ? 0.0 : -ranking_.begin()->first;
+        if (best > best_value_ + kMeaningfulGain) {
+            best_value_ = best;
+            made_at_progress_ = made_;
+        } else if (made_ - made_at_progress_ >= stagnation_worlds()) {
+            sample_batch();
+            take_new_worlds();
+            made_at_progress_ = made_;
+        }
+    }
+
+    uint64_t stagnation_worlds() const {
+        return std::max<uint64_t>(256, uint64_t{8} * request_.beam_width * request_.children_per_branch);
     }
 
     void sample_batch() {
@@ -368,10 +391,12 @@ private:
     std::unordered_map<uint64_t, GoalScore> scores_;
     std::set<std::pair<double, uint64_t>> ranking_;  ///< (-value, world index): best first
     std::set<uint64_t> found_, spent_;
-    std::set<double> seen_values_;
+    std::set<long long> seen_values_;
     std::map<uint64_t, uint32_t> failures_;
     std::set<std::pair<uint64_t, Branch>> tried_;
     uint64_t made_ = 0, refinements_ = 0;
+    double best_value_ = -1;
+    uint64_t made_at_progress_ = 0;
 };
 
 }  // namespace
