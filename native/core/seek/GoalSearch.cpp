@@ -8,6 +8,7 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "geometry/ShapeBounds.h"
 #include "library/LibraryReader.h"
 #include "library/LibraryWriter.h"
 #include "refine/LineageCache.h"
@@ -16,7 +17,6 @@
 #include "seek/GoalJson.h"
 #include "seek/WorldIndexing.h"
 #include "sim/PortableRandom.h"
-#include "geometry/ShapeBounds.h"
 
 namespace mwb {
 namespace {
@@ -123,6 +123,9 @@ private:
             fresh.push_back(w.world_index);
         }
         index_.add_worlds(std::move(inputs), request_.threads);
+        // In index order, not file order (which depends on which thread finished first): which of
+        // two equal worlds counts is then the same on any thread count.
+        std::sort(fresh.begin(), fresh.end());
         for (uint64_t w : fresh) {
             GoalScore score = index_.score(w, request_.boxes, order_);
             if (score.first_unmet < 0) found_.insert(w);
