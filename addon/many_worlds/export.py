@@ -314,9 +314,15 @@ class SceneExporter:
             if kind == "GENERIC_SPRING":
                 c["linear_springs"] = self._springs(rbc, "")
                 c["angular_springs"] = self._springs(rbc, "ang_")
-                if rbc.spring_type == "SPRING1" and any(c["angular_springs"]["enabled"]):
+                springs = c["angular_springs"]
+                if rbc.spring_type == "SPRING1" and any(springs["enabled"]):
                     self.report(ob.name, "spring_type", "SPRING1 (Blender's old spring) is simulated as a "
                                                         "damped spring like SPRING2")
+                if any(on and d > 0 for on, d in zip(springs["enabled"], springs["damping"])):
+                    # Bullet applies a spring explicitly each step; ODE's implicit spring loses a
+                    # little more energy, so small swings die out sooner (fidelity corpus).
+                    self.report(ob.name, "spring_damping_ang", "angular spring damping is approximated: small "
+                                                               "swings settle sooner than in Blender")
             lin = c["linear_limits"]
             if not all(lin["enabled"]) or any(lin["lower"]) or any(lin["upper"]):
                 self.report(ob.name, "linear limits", f"{kind} with free or limited linear axes is not supported "

@@ -22,9 +22,6 @@ OUT = os.environ.get("MWB_FIDELITY_OUT", os.path.join(compare.ROOT, "build", "fi
 # Divergences known and not yet mended, each with why. strict: the test fails the day the scene
 # comes out right, so the entry is removed then.
 KNOWN_DIVERGENCES = {
-    "connect_each_type": "the GENERIC_SPRING bar's angular springs die out a little sooner than "
-                         "Bullet's (±1-2 mm against ±5 mm after 3 s, same pose within 4 mm): ours "
-                         "counts as at rest, Bullet's not yet",
     "breakable_shelves": "Bullet caps a breakable constraint's row impulses at the threshold within "
                          "the breaking step, so the weak shelf drops with its load; ODE's joint "
                          "stops the load first, then breaks, and the load slides off (6 cm lower)",

@@ -4,7 +4,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from many_worlds.core import arrays, engine, family, paths
+from many_worlds.core import arrays, engine, export_warnings, family, paths
 
 
 def test_polyline_segments_join_consecutive_points_of_the_chosen_bodies():
@@ -96,3 +96,17 @@ def test_lineage_steps_name_the_bodies_added_and_removed():
     assert family.relation_text(lines[2], names) == "child of 1: +Ball -Box -Plate"
     assert family.relation_text(lines[2]) == "child of 1: +3 -0 -2"
     assert family.family(lines, 1) == {0: family.ROOT, 1: family.SELECTED, 2: family.CHILD}
+
+
+def test_the_panel_folds_one_approximation_on_many_objects_into_a_line_naming_them_all():
+    joints = [f"Joint{k}: spring_damping_ang: angular spring damping is approximated" for k in range(4)]
+    lines = ["Box: use_deactivation: deactivation is not supported", *joints,
+             "Shelf: breaking_threshold: breaking is approximated", "Lid: breaking_threshold: breaking is approximated"]
+    grouped = export_warnings.grouped_warning_lines(lines)
+    assert grouped == ["Box: use_deactivation: deactivation is not supported",
+                       "spring_damping_ang on 4 objects (Joint0, Joint1, Joint2, Joint3): angular spring damping "
+                       "is approximated",
+                       "Shelf: breaking_threshold: breaking is approximated",
+                       "Lid: breaking_threshold: breaking is approximated"]
+    # Every object is still named; a line that is not "object: setting: reason" stays as it is.
+    assert export_warnings.grouped_warning_lines(["odd line"]) == ["odd line"]

@@ -6,6 +6,7 @@ import bpy
 
 from .. import props, scene_boxes
 from ..core import library_query
+from ..core.export_warnings import grouped_warning_lines
 from ..operators import sampling
 from ..core.session import SESSION
 
@@ -79,7 +80,7 @@ class MWB_PT_sampling(SidebarPanel, bpy.types.Panel):
             # What the engine does not reproduce as Blender would, named by object and setting.
             box = layout.box()
             box.label(text=f"{len(SESSION.export_warnings)} settings differ from Blender", icon="ERROR")
-            for line in SESSION.export_warnings:
+            for line in grouped_warning_lines(SESSION.export_warnings):
                 wrapped_labels(box, context, line, "DOT")
 
 
