@@ -11,20 +11,15 @@ import bpy
 import pytest
 
 from conftest import ROOT, sample_and_wait
+from quickstart_goal import GOAL, LAST_SECOND, add_goal_boxes
 
-from many_worlds import cli, scene_boxes
+from many_worlds import scene_boxes
 from many_worlds.core import engine as engine_process
 from many_worlds.core import goal, paths
 from many_worlds.core.session import SESSION
 from many_worlds.operators import sampling
 
 QUICKSTART = os.path.join(ROOT, "blend_examples", "quickstart", "quickstart.blend")
-# Rare together: in about one world in a hundred the marble ends in the left bin, the cone in the
-# middle one and the pill in the right one (each in the run's last second). Fractions of the scene
-# camera's view over each bin, apart from its neighbours.
-GOAL = (("Marble", (0.32, 0.22, 0.38, 0.40)), ("Cone", (0.40, 0.19, 0.46, 0.37)),
-        ("Pill", (0.50, 0.15, 0.557, 0.33)))
-LAST_SECOND = (3.0, 4.0)
 
 
 def engine_has_seek():
@@ -33,18 +28,6 @@ def engine_has_seek():
 
 
 needs_seek = pytest.mark.skipif(not engine_has_seek(), reason="the built mwb-engine has no 'seek' command yet")
-
-
-def add_goal_boxes():
-    view, projection, (width, height) = cli.camera_view("Camera")
-    for body, (x0, y0, x1, y1) in GOAL:
-        rect = (x0 * width, y0 * height, x1 * width, y1 * height)
-        assert bpy.ops.mwb.add_box(rect=rect, view_matrix=view.ravel().tolist(),
-                                   projection_matrix=projection.ravel().tolist(),
-                                   region_size=(int(width), int(height)), bodies=body) == {"FINISHED"}
-        box = bpy.context.scene.mwb.boxes[-1]
-        box.use_time_window, box.time_start_s, box.time_end_s = True, *LAST_SECOND
-    return bpy.context.scene.mwb.boxes
 
 
 @pytest.fixture
