@@ -145,53 +145,12 @@ int32_t PathTree::build(uint32_t first, uint32_t last, int depth) {
     return index;
 }
 
-bool PathTree::segments_touch(uint32_t first, uint32_t last, const Frustum& frustum, double t_lo, double t_hi,
-                              double radius) const {
-    // The held last pose: the last point from its own time to the end of the hold.
-    if ((first == last || last + 1 == point_count()) && time_of(last) <= t_hi && end_of(last) >= t_lo &&
-        frustum.touches_segment(point(last), point(last), 0, 1, radius))
-        return true;
-    for (uint32_t k = first; k < last; ++k) {
-        const double ta = time_of(k), tb = time_of(k + 1);
-        if (tb < t_lo || ta > t_hi) continue;
-        // The part of the segment inside the time window (linear in time between samples).
-        const double span = tb - ta;
-        const double u0 = span > 0 ? std::max(0.0, (t_lo - ta) / span) : 0.0;
-        const double u1 = span > 0 ? std::min(1.0, (t_hi - ta) / span) : 1.0;
-        if (frustum.touches_segment(point(k), point(k + 1), u0, u1, radius)) return true;
-    }
-    return false;
-}
-
-bool PathTree::node_touches(int32_t index, const Frustum& frustum, double t_lo, double t_hi, double radius) const {
-    const Node& node = nodes_[static_cast<size_t>(index)];
-    const double start = time_of(node.first_point), end = end_of(node.last_point);
-    if (end < t_lo || start > t_hi) return false;
-    const int side = frustum.classify_box(
-        {node.center[0], node.center[1], node.center[2]},
-        {Vec3{node.axes[0], node.axes[1], node.axes[2]}, Vec3{node.axes[3], node.axes[4], node.axes[5]},
-         Vec3{node.axes[6], node.axes[7], node.axes[8]}},
-        {node.half_extents[0], node.half_extents[1], node.half_extents[2]}, radius);
-    if (side < 0) return false;
-    // Wholly inside and wholly within the window: every segment touches.
-    if (side > 0 && start >= t_lo && end <= t_hi) return true;
-    if (node.children[0] < 0) return segments_touch(node.first_point, node.last_point, frustum, t_lo, t_hi, radius);
-    return node_touches(node.children[0], frustum, t_lo, t_hi, radius) ||
-           node_touches(node.children[1], frustum, t_lo, t_hi, radius);
-}
-
 bool PathTree::touches(const Frustum& frustum, const TimeWindow& window, double radius) const {
-    if (nodes_.empty()) return false;
-    const double lo = window.empty() ? -std::numeric_limits<double>::infinity() : window.lo_s;
-    const double hi = window.empty() ? std::numeric_limits<double>::infinity() : window.hi_s;
-    return node_touches(0, frustum, lo, hi, radius);
+    return first_touch_time(frustum, window, radius) >= 0;
 }
 
 bool PathTree::touches_brute_force(const Frustum& frustum, const TimeWindow& window, double radius) const {
-    if (point_count() == 0) return false;
-    const double lo = window.empty() ? -std::numeric_limits<double>::infinity() : window.lo_s;
-    const double hi = window.empty() ? std::numeric_limits<double>::infinity() : window.hi_s;
-    return segments_touch(0, static_cast<uint32_t>(point_count() - 1), frustum, lo, hi, radius);
+    return first_touch_time_brute_force(frustum, window, radius) >= 0;
 }
 
 double PathTree::segments_first_touch(uint32_t first, uint32_t last, const Frustum& frustum, double t_lo,
@@ -199,13 +158,15 @@ double PathTree::segments_first_touch(uint32_t first, uint32_t last, const Frust
     for (uint32_t k = first; k < last; ++k) {
         const double ta = time_of(k), tb = time_of(k + 1);
         if (tb < t_lo || ta > t_hi) continue;
+        // The part of the segment inside the time window (linear in time between samples).
         const double span = tb - ta;
         const double u0 = span > 0 ? std::max(0.0, (t_lo - ta) / span) : 0.0;
         const double u1 = span > 0 ? std::min(1.0, (t_hi - ta) / span) : 1.0;
         const double u = frustum.first_touch(point(k), point(k + 1), u0, u1, radius);
         if (u >= 0) return ta + u * span;
     }
-    // The held last pose comes after every segment.
+    // The held last pose (the last point from its own time to the end of the hold) comes after
+    // every segment.
     if ((first == last || last + 1 == point_count()) && time_of(last) <= t_hi && end_of(last) >= t_lo &&
         frustum.touches_segment(point(last), point(last), 0, 1, radius))
         return std::max(time_of(last), t_lo);

@@ -24,7 +24,8 @@ public:
              double hold_until_s = 0);
 
     /// Whether the path comes within `radius` of the frustum during `window` (whole path if
-    /// the window is empty). Uses the tree; the answer equals touches_brute_force exactly.
+    /// the window is empty): whether it has a first touch. Uses the tree; the answer equals
+    /// touches_brute_force exactly.
     bool touches(const Frustum& frustum, const TimeWindow& window, double radius) const;
     /// The same answer by testing every segment; for tests and benchmarks.
     bool touches_brute_force(const Frustum& frustum, const TimeWindow& window, double radius) const;
@@ -61,9 +62,6 @@ private:
 
     void quantize(const std::vector<float>& points);
     int32_t build(uint32_t first, uint32_t last, int depth);
-    bool node_touches(int32_t node, const Frustum& frustum, double u_lo, double u_hi, double radius) const;
-    bool segments_touch(uint32_t first, uint32_t last, const Frustum& frustum, double t_lo, double t_hi,
-                        double radius) const;
     double node_first_touch(int32_t node, const Frustum& frustum, double t_lo, double t_hi, double radius) const;
     /// Earliest touching time over segments first..last (and the held pose after the last point),
     /// or +infinity.
