@@ -203,7 +203,8 @@ METRIC_UNITS = _metric_units()
 
 
 def format_metric(metric, value, box_count=0):
-    """A metric's value as the panel shows it, by the unit the module gives the metric."""
+    """A metric's value as the ranking's value column shows it, by the unit the module gives the
+    metric; boxes met read "2 of 3" (the column's header names the metric)."""
     unit = METRIC_UNITS.get(metric)
     if unit == "rad":
         return f"{np.degrees(value):.1f}\u00b0"
@@ -211,4 +212,4 @@ def format_metric(metric, value, box_count=0):
         return f"{value:.2f} {unit}"
     if unit == "hits":
         return f"{int(round(value))} hits"
-    return f"{int(round(value))} of {box_count} boxes"
+    return f"{int(round(value))} of {box_count}"

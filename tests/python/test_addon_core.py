@@ -4,7 +4,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from many_worlds.core import arrays, engine, export_warnings, family, paths
+from many_worlds.core import arrays, engine, export_warnings, family, library_query, paths
 
 
 def test_polyline_segments_join_consecutive_points_of_the_chosen_bodies():
@@ -110,3 +110,9 @@ def test_the_panel_folds_one_approximation_on_many_objects_into_a_line_naming_th
                        "Lid: breaking_threshold: breaking is approximated"]
     # Every object is still named; a line that is not "object: setting: reason" stays as it is.
     assert export_warnings.grouped_warning_lines(["odd line"]) == ["odd line"]
+
+
+def test_the_viewport_label_names_the_world_its_rest_time_and_the_boxes_it_meets():
+    assert library_query.world_label_text(216, 5.4701) == "World 216 \u00b7 5.47 s"
+    assert library_query.world_label_text(216, 5.4701, 3, 3) == "World 216 \u00b7 5.47 s \u00b7 3 of 3 boxes"
+    assert library_query.world_label_text(7, 0.5, 0, 1) == "World 7 \u00b7 0.50 s \u00b7 0 of 1 box"

@@ -4,19 +4,24 @@ Run by tests/viewport/run.sh:
   xvfb-run -a -s "-screen 0 1600x1000x24" blender --factory-startup --addons many_worlds paths.blend \
       --python tests/viewport/test_paths_drawn.py -- OUT_DIR
 The add-on reopens the library on load (load_post). Screenshots of the window are taken with the
-paths on, with a world selected, and with the paths off; the 3D viewport's pixels must show the
-path colour (and the selected world's colour) only while drawing is on. Exit code 0 = pass.
+paths on, with a world selected, with the selected world's paths drawn alone, with the paths off
+and with no world selected; the 3D viewport's pixels must show the path colour (and the selected
+world's colour) only while drawing is on. The selected world must show (nearly) as many pixels
+among the other paths as alone: it is drawn on top. The label naming the selected world (in the
+selected world's colour, bottom-left) must be drawn there only while a world is selected.
+Exit code 0 = pass.
 """
 import json
 import os
 import sys
 
 import bpy
+import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 from many_worlds.core.session import SESSION  # noqa: E402
-from many_worlds.draw import paths  # noqa: E402
+from many_worlds.draw import paths, world_label  # noqa: E402
 from viewport_helpers import colour_mask, viewport  # noqa: E402
 import viewport_helpers  # noqa: E402
 
@@ -28,9 +33,24 @@ def screenshot(name):
     return viewport_helpers.screenshot(OUT_DIR, name)
 
 
+def label_corner(rgb):
+    """A mask of the bottom-left corner where the world label is drawn (region pixels, bottom row 0)."""
+    window, area, region = viewport()
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        x, y = world_label.label_origin(bpy.context)
+    scale = bpy.context.preferences.view.ui_scale
+    corner = np.zeros(rgb.shape[:2], dtype=bool)
+    corner[:int(y + 40 * scale), :int(x + 420 * scale)] = True
+    return corner
+
+
 def counts(rgb):
+    """Pixels of the matching colour, of the selected world's colour outside the label's corner
+    (its paths) and inside it (the label)."""
+    corner = label_corner(rgb)
+    selected = colour_mask(rgb, paths.SELECTED_COLOR)
     return {"matching": int(colour_mask(rgb, paths.MATCHING_COLOR).sum()),
-            "selected": int(colour_mask(rgb, paths.SELECTED_COLOR).sum())}
+            "selected": int((selected & ~corner).sum()), "label": int((selected & corner).sum())}
 
 
 def steps():
@@ -55,10 +75,20 @@ def steps():
     area.tag_redraw()
     yield
     results["world_selected"] = counts(screenshot("world_selected.png"))
+    # The selected world's batch alone (the cache keeps it until its inputs change).
+    paths.OVERLAY._batches = [b for b in paths.OVERLAY._batches if b[3]]
+    area.tag_redraw()
+    yield
+    results["selected_alone"] = counts(screenshot("selected_alone.png"))
+    paths.OVERLAY.clear()
     scene.mwb.show_paths = False
     area.tag_redraw()
     yield
     results["paths_off"] = counts(screenshot("paths_off.png"))
+    scene.mwb.selected_world = -1
+    area.tag_redraw()
+    yield
+    results["none_selected"] = counts(screenshot("none_selected.png"))
     # The panels draw in the real UI (a drawing error would print a traceback, which run.sh fails on):
     # the variation panel next to the Rigid Body settings, the sidebar with the sampling panel.
     properties = next(a for a in window.screen.areas if a.type == "PROPERTIES")
@@ -80,8 +110,14 @@ def steps():
     print("viewport pixel counts:", results)
     assert results["paths_on"]["matching"] > 300, results
     assert results["world_selected"]["selected"] > 100, results
-    assert results["world_selected"]["matching"] > 300, results
+    # Neither the other paths nor the scene hide the selected world: it shows as among none.
+    assert results["world_selected"]["selected"] > 0.9 * results["selected_alone"]["selected"], results
+    # The others are dimmed while a world is selected: few pixels keep the full matching colour.
+    assert results["world_selected"]["matching"] < 0.5 * results["paths_on"]["matching"], results
     assert results["paths_off"]["matching"] < 20 and results["paths_off"]["selected"] < 20, results
+    # The label: drawn with a world selected (paths on or off), gone without one.
+    assert results["paths_on"]["label"] < 5 and results["none_selected"]["label"] < 5, results
+    assert results["world_selected"]["label"] > 50 and results["paths_off"]["label"] > 50, results
 
 
 viewport_helpers.run_steps(steps, TICK_S)

@@ -86,6 +86,15 @@ def match_count_text(matching, total):
     return f"{matching:,} of {total:,} {noun}"
 
 
+def world_label_text(world, rest_s, boxes_met=0, box_count=0):
+    """The viewport's one line naming the previewed world: "World 216 · 5.47 s · 3 of 3 boxes"
+    (the boxes part only while boxes are enabled)."""
+    parts = [f"World {world}", f"{rest_s:.2f} s"]
+    if box_count:
+        parts.append(f"{boxes_met} of {box_count} {'box' if box_count == 1 else 'boxes'}")
+    return " \u00b7 ".join(parts)
+
+
 @dataclass
 class QueryResult:
     """Outcome of one evaluation, in the LibraryView's (file) order."""

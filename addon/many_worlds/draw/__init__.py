@@ -1,5 +1,5 @@
-"""Viewport overlays drawn with the gpu module only."""
-from . import boxes, paths
+"""Viewport overlays drawn with the gpu and blf modules (no bgl)."""
+from . import boxes, paths, world_label
 
 classes = ()
 
@@ -7,8 +7,10 @@ classes = ()
 def add_handlers():
     paths.OVERLAY.add()
     boxes.OVERLAY.add()
+    world_label.OVERLAY.add()
 
 
 def remove_handlers():
+    world_label.OVERLAY.remove()
     boxes.OVERLAY.remove()
     paths.OVERLAY.remove()

@@ -1,11 +1,12 @@
 """The path overlay: every sampled path of the chosen bodies in the 3D viewport.
 
 Matching worlds are drawn bright, the others faint (and, with Family of Selected World on, every
-world outside that family), the selected world on top and wider. A body is drawn only in the
-worlds it exists in (bodies can be added to and removed from worlds). Batches are cached and
-rebuilt only when the library's data or match state (LibraryView.version), the chosen bodies or
-the selected world change; per-world line segments are cached too, so a new world costs only its
-own arrays.
+world outside that family). While a world is selected, the other paths are dimmed and the selected
+world's paths are drawn last, twice as wide and without depth test, so neither other paths nor the
+scene's geometry hide them. A body is drawn only in the worlds it exists in (bodies can be added
+to and removed from worlds). Batches are cached and rebuilt only when the library's data or
+match state (LibraryView.version), the chosen bodies or the selected world change; per-world line
+segments are cached too, so a new world costs only its own arrays.
 """
 import bpy
 import gpu
@@ -19,6 +20,13 @@ from ..core.session import SESSION
 MATCHING_COLOR = (1.0, 0.45, 0.05, 0.9)
 REJECTED_COLOR = (0.55, 0.55, 0.6, 0.12)
 SELECTED_COLOR = (0.1, 0.85, 1.0, 1.0)
+# While a world is selected, the other paths' alpha is scaled by this, so the selected one stands out.
+DIMMED_ALPHA = 0.35
+SELECTED_WIDTH = 2.0
+
+
+def dimmed(colour):
+    return colour[:3] + (colour[3] * DIMMED_ALPHA,)
 
 
 def chosen_bodies(context, view):
@@ -32,7 +40,7 @@ class PathOverlay:
     def __init__(self):
         self._handle = None
         self._key = None
-        self._batches = []       # (batch, colour, width factor)
+        self._batches = []       # (batch, colour, width factor, drawn on top)
         self._segments = {}      # (world, bodies) -> float32 (n, 3)
         self._shader = None
 
@@ -82,15 +90,16 @@ class PathOverlay:
             match = match and (family is None or world in family)
             if world != selected:
                 (matching if match else rejected).append(self.world_segments(view, world, bodies))
+        has_selected = selected in view.world_indices
         self._batches = []
-        for parts, colour, width in ((rejected, REJECTED_COLOR, 1.0), (matching, MATCHING_COLOR, 1.0)):
+        for parts, colour in ((rejected, REJECTED_COLOR), (matching, MATCHING_COLOR)):
             batch = self._batch(parts)
             if batch is not None:
-                self._batches.append((batch, colour, width))
-        if selected in view.world_indices:
+                self._batches.append((batch, dimmed(colour) if has_selected else colour, 1.0, False))
+        if has_selected:
             batch = self._batch([self.world_segments(view, selected, bodies)])
             if batch is not None:
-                self._batches.append((batch, SELECTED_COLOR, 2.0))
+                self._batches.append((batch, SELECTED_COLOR, SELECTED_WIDTH, True))
 
     def batches_for(self, context):
         """The batches to draw now (rebuilt if their inputs changed); [] when there is nothing."""
@@ -119,11 +128,11 @@ class PathOverlay:
         region = context.region
         blend, depth, line_width = gpu.state.blend_get(), gpu.state.depth_test_get(), gpu.state.line_width_get()
         gpu.state.blend_set("ALPHA")
-        gpu.state.depth_test_set("LESS_EQUAL")
         try:
             self._shader.bind()
             self._shader.uniform_float("viewportSize", (region.width, region.height))
-            for batch, colour, factor in batches:
+            for batch, colour, factor, on_top in batches:
+                gpu.state.depth_test_set("NONE" if on_top else "LESS_EQUAL")
                 self._shader.uniform_float("lineWidth", width * factor)
                 self._shader.uniform_float("color", colour)
                 batch.draw(self._shader)

@@ -80,6 +80,19 @@ class MWB_UL_boxes(bpy.types.UIList):
         row.operator("mwb.remove_box", text="", icon="X", emboss=False).index = index
 
 
+def ranking_columns(layout):
+    """(rank, world, value) layouts of one ranking row or of its header: fixed-width columns for
+    the rank and the world index, the rest for the value, right-aligned, so the numbers never run
+    into each other at the sidebar's default width."""
+    split = layout.split(factor=0.22)
+    rank = split.row()
+    split = split.split(factor=0.35)
+    world = split.row()
+    value = split.row()
+    value.alignment = "RIGHT"
+    return rank, world, value
+
+
 class MWB_UL_ranking(bpy.types.UIList):
     """The stored worlds ordered by the ranking metric; worlds the boxes reject are hidden (unless
     the metric is Constraints Satisfied). Clicking a row previews that world."""
@@ -103,10 +116,11 @@ class MWB_UL_ranking(bpy.types.UIList):
         metric = context.scene.mwb.rank_metric
         lq = scene_boxes.library_query()
         box_count = lq.result.box_count if lq is not None and lq.result is not None else 0
-        row = layout.row(align=True)
-        row.label(text=f"{row_index + 1 if row_index is not None else '-'}.  World {item.world_index}")
+        rank, world, value = ranking_columns(layout)
+        rank.label(text=f"{row_index + 1}." if row_index is not None else "-")
+        world.label(text=str(item.world_index))
         if row_index is not None:
-            row.label(text=scene_boxes.format_metric(metric, ranking.values[row_index], box_count))
+            value.label(text=scene_boxes.format_metric(metric, ranking.values[row_index], box_count))
 
 
 class MWB_UL_libraries(bpy.types.UIList):

@@ -5,6 +5,7 @@ import textwrap
 import bpy
 
 from .. import props, scene_boxes
+from . import lists
 from ..core import library_query
 from ..core.export_warnings import grouped_warning_lines
 from ..operators import sampling
@@ -210,6 +211,10 @@ class MWB_PT_ranking(LibraryPanel, bpy.types.Panel):
             row.operator("mwb.rank_use_selected", text="", icon="RESTRICT_SELECT_OFF")
             if settings.rank_bodies == "LISTED":
                 layout.label(text=", ".join(b.name for b in settings.rank_body_names) or "no bodies")
+        rank, world, value = lists.ranking_columns(layout.row())
+        rank.label(text="#")
+        world.label(text="World")
+        value.label(text=settings.bl_rna.properties["rank_metric"].enum_items[settings.rank_metric].name)
         # Same collection and active index as the Worlds list: clicking a row previews the world.
         layout.template_list("MWB_UL_ranking", "", settings, "worlds", settings, "world_list_index", rows=8)
 
