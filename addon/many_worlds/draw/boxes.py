@@ -11,6 +11,7 @@ import numpy as np
 from gpu_extras.batch import batch_for_shader
 
 from .. import compat
+from .overlay import ViewportOverlay
 
 POSITIVE_COLOR = (0.1, 0.9, 0.25, 1.0)
 NEGATIVE_COLOR = (0.95, 0.12, 0.1, 1.0)
@@ -41,27 +42,16 @@ def _fill(rect):
     return [(x0, y0, 0), (x1, y0, 0), (x1, y1, 0), (x0, y0, 0), (x1, y1, 0), (x0, y1, 0)]
 
 
-class BoxOverlay:
+class BoxOverlay(ViewportOverlay):
     def __init__(self):
-        self._handle = None
+        super().__init__()
         self._line_shader = None
         self._fill_shader = None
         # The box being dragged: (region pointer, (x0, y0, x1, y1), negative) or None.
         self.dragging = None
 
-    def add(self):
-        if self._handle is None:
-            self._handle = bpy.types.SpaceView3D.draw_handler_add(self.draw, (), "WINDOW", "POST_PIXEL")
-
-    def remove(self):
-        if self._handle is not None:
-            bpy.types.SpaceView3D.draw_handler_remove(self._handle, "WINDOW")
-            self._handle = None
+    def forget(self):
         self.dragging = None
-
-    @property
-    def active(self):
-        return self._handle is not None
 
     def rectangles(self, context):
         """(rect, colour) of every box to draw in context.region, the dragged one last."""

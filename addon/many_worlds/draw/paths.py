@@ -16,6 +16,7 @@ from gpu_extras.batch import batch_for_shader
 from .. import compat
 from ..core import arrays
 from ..core.session import SESSION
+from .overlay import ViewportOverlay
 
 MATCHING_COLOR = (1.0, 0.45, 0.05, 0.9)
 REJECTED_COLOR = (0.55, 0.55, 0.6, 0.12)
@@ -36,34 +37,23 @@ def chosen_bodies(context, view):
     return tuple(view.simulated_bodies())
 
 
-class PathOverlay:
+class PathOverlay(ViewportOverlay):
+    draw_phase = "POST_VIEW"
+
     def __init__(self):
-        self._handle = None
+        super().__init__()
         self._key = None
         self._batches = []       # (batch, colour, width factor, drawn on top)
         self._segments = {}      # (world, bodies) -> float32 (n, 3)
         self._shader = None
 
-    # --- handler lifetime -----------------------------------------------------------------
-
-    def add(self):
-        if self._handle is None:
-            self._handle = bpy.types.SpaceView3D.draw_handler_add(self.draw, (), "WINDOW", "POST_VIEW")
-
-    def remove(self):
-        if self._handle is not None:
-            bpy.types.SpaceView3D.draw_handler_remove(self._handle, "WINDOW")
-            self._handle = None
+    def forget(self):
         self.clear()
 
     def clear(self):
         self._key = None
         self._batches = []
         self._segments = {}
-
-    @property
-    def active(self):
-        return self._handle is not None
 
     # --- batches ------------------------------------------------------------------------------
 

@@ -7,6 +7,7 @@ import bpy
 from .. import scene_boxes
 from ..core import library_query
 from ..core.session import SESSION
+from .overlay import ViewportOverlay
 from .paths import SELECTED_COLOR
 
 FONT_ID = 0
@@ -46,23 +47,7 @@ def label_origin(context):
     return x, y
 
 
-class WorldLabel:
-    def __init__(self):
-        self._handle = None
-
-    def add(self):
-        if self._handle is None:
-            self._handle = bpy.types.SpaceView3D.draw_handler_add(self.draw, (), "WINDOW", "POST_PIXEL")
-
-    def remove(self):
-        if self._handle is not None:
-            bpy.types.SpaceView3D.draw_handler_remove(self._handle, "WINDOW")
-            self._handle = None
-
-    @property
-    def active(self):
-        return self._handle is not None
-
+class WorldLabel(ViewportOverlay):
     def draw(self):
         context = bpy.context
         text = label_text(context)
