@@ -125,14 +125,17 @@ def sample_and_wait(count, timeout_s=180, **settings):
     return SESSION
 
 
-def cancel_after_finished(count=2, timeout_s=60):
-    """Let the running engine child finish `count` worlds, press Cancel, and pump the poller until
-    the run has ended."""
+def cancel_after_finished(count=2, timeout_s=60, ready=None):
+    """Let the running engine child finish `count` worlds (or, given `ready`, pump the poller until
+    ready() is true), press Cancel, and pump the poller until the run has ended."""
     from many_worlds.core.session import SESSION
     from many_worlds.operators import sampling
+    if ready is None:
+        def ready():
+            return SESSION.engine.progress()[0] >= count
     deadline = time.monotonic() + timeout_s
-    while SESSION.engine.progress()[0] < count:
-        assert time.monotonic() < deadline, f"the engine did not finish {count} worlds in time"
+    while not ready():
+        assert time.monotonic() < deadline, "the engine did not make its worlds in time"
         sampling.poll_sampling()
         time.sleep(0.05)
     assert bpy.ops.mwb.cancel_sampling() == {"FINISHED"}

@@ -10,7 +10,7 @@ import time
 import bpy
 import pytest
 
-from conftest import ROOT, sample_and_wait
+from conftest import ROOT, cancel_after_finished, sample_and_wait
 from quickstart_goal import GOAL, LAST_SECOND, add_goal_boxes
 
 from many_worlds import scene_boxes
@@ -120,15 +120,8 @@ def test_cancelling_a_seek_keeps_every_world_it_made(quickstart):
     settings = bpy.context.scene.mwb
     settings.seek_want, settings.seek_budget_worlds, settings.threads = 1000, 100000, 1
     assert bpy.ops.mwb.seek() == {"FINISHED"}
-    deadline = time.monotonic() + 120
-    while SESSION.engine.seek_progress() is None or len(SESSION.view.world_indices) < 12:
-        assert time.monotonic() < deadline, "no worlds made in time"
-        sampling.poll_sampling()
-        time.sleep(0.05)
-    assert bpy.ops.mwb.cancel_sampling() == {"FINISHED"}
-    while sampling.poll_sampling() is not None:
-        assert time.monotonic() < deadline, "the engine did not stop in time"
-        time.sleep(0.05)
+    cancel_after_finished(timeout_s=120, ready=lambda: SESSION.engine.seek_progress() is not None
+                          and len(SESSION.view.world_indices) >= 12)
     assert SESSION.last_error == "" and SESSION.status.startswith("Seek cancelled: best"), SESSION.status
     from many_worlds import _native
     stored = len(_native.Library(SESSION.view.path).world_indices)
