@@ -8,6 +8,7 @@ until one world meets them all or the budget is spent. The world it reports is c
 with the browser's own query. Prints a line per example and `BENCH seek_NAME_reached` (1/0),
 `BENCH seek_NAME_worlds` (worlds simulated, the first batch included) and `BENCH seek_NAME_s`.
 """
+import contextlib
 import json
 import math
 import os
@@ -197,17 +198,6 @@ def query_boxes(goal, library):
     return out
 
 
-class _Kept:
-    def __init__(self, path):
-        self.path = path
-
-    def __enter__(self):
-        return self.path
-
-    def __exit__(self, *_):
-        return False
-
-
 def main():
     name = os.path.splitext(os.path.basename(bpy.data.filepath))[0]
     if name not in GOALS:
@@ -221,10 +211,9 @@ def main():
     keep = os.environ.get("MWB_SEEK_KEEP")
     if keep:
         os.makedirs(keep, exist_ok=True)
-        for f in ("lib.mwb",):
-            if os.path.exists(os.path.join(keep, f)):
-                os.remove(os.path.join(keep, f))
-    with (tempfile.TemporaryDirectory() if not keep else _Kept(keep)) as folder:
+        if os.path.exists(os.path.join(keep, "lib.mwb")):
+            os.remove(os.path.join(keep, "lib.mwb"))
+    with contextlib.nullcontext(keep) if keep else tempfile.TemporaryDirectory() as folder:
         scene_json, library_path, goal_path = (os.path.join(folder, f) for f in ("scene.json", "lib.mwb", "goal.json"))
         with open(scene_json, "w") as f:
             f.write(result.to_json())
