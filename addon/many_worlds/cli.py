@@ -10,7 +10,8 @@ Commands (run `... -- help` for the options):
     rank     worlds sorted by a metric
     seek     refine a library's worlds until some meet every box (the engine runs as a child process)
     bake     write one world as keyframes and save the result as a new .blend
-    preview  a contact sheet PNG of chosen worlds' paths seen from the scene camera
+    preview  a contact sheet PNG of chosen worlds: the scene rendered from its camera at each world's
+             last frame, the paths over it, a legend of the objects' colours
 
 A user mistake prints one line starting with "many_worlds: error:" and exits with status 2.
 """
@@ -32,7 +33,7 @@ if __name__ == "__main__":
 import numpy as np  # noqa: E402
 
 from . import _native  # noqa: E402
-from .core import contact_sheet, engine, goal, paths  # noqa: E402
+from .core import contact_sheet, engine, goal, palette, paths  # noqa: E402
 from .core.library_view import LibraryView  # noqa: E402
 from .core.library_query import BOXES_MET, BoxSpec, LibraryQuery, metric_name  # noqa: E402
 
@@ -377,9 +378,11 @@ def command_bake(args):
 
 
 def command_preview(args):
-    library = open_library(args.library)
-    check_library_matches_scene(library, args.library)
-    available = set(int(w) for w in library.world_indices)
+    import bpy
+    from . import scene_render
+    view = open_view(args.library)
+    check_library_matches_scene(view.library, args.library)
+    available = set(int(w) for w in view.world_indices)
     try:
         worlds = [int(w) for w in args.worlds.split(",")]
     except ValueError:
@@ -387,13 +390,26 @@ def command_preview(args):
     missing = [w for w in worlds if w not in available]
     if missing:
         raise CliError(f"no world {missing[0]} in {args.library}")
-    view, projection, (width, height) = camera_view(args.camera)
-    bodies = body_indices(library, args.objects)
+    camera, projection, (width, height) = camera_view(args.camera)
+    bodies = body_indices(view.library, args.objects)
+    colours = palette.body_colours(view.body_names, view.simulated_bodies())
     tiles = []
     for w in worlds:
-        polylines, present = library.polyline(w), library.present(w)
-        tiles.append((w, [polylines[b] for b in bodies if present[b]]))
-    image = contact_sheet.render(tiles, view, projection, (width, height), tile_width=args.tile_width)
+        polylines = view.library.polyline(w)
+        tiles.append((w, [(polylines[b], palette.to_bytes(colours[b])) for b in view.present_bodies(w, bodies)]))
+    legend = [(name, palette.to_bytes(colour)) for name, colour in palette.object_colours(
+        view.body_names, view.simulated_bodies()).items() if any(view.body_names[b] == name for b in bodies)]
+    backgrounds = None
+    if args.engine != "none":
+        engine, why = scene_render.choose_engine(args.engine)
+        label = "Workbench" if engine == scene_render.WORKBENCH else "Cycles"
+        print(f"many_worlds: rendering the scene with {label} ({why})", file=sys.stderr, flush=True)
+        scene = bpy.context.scene
+        scene.camera = bpy.data.objects[args.camera]
+        tile_width, tile_height = contact_sheet.tile_size(args.tile_width, (width, height))
+        backgrounds = scene_render.render_worlds(scene, view, worlds, tile_width, tile_height, engine)
+    image = contact_sheet.render(tiles, camera, projection, (width, height), tile_width=args.tile_width,
+                                 backgrounds=backgrounds, legend=legend)
     contact_sheet.save_png(image, os.path.abspath(args.out))
     print(f"contact sheet of {len(worlds)} worlds -> {os.path.abspath(args.out)}")
     return 0
@@ -485,13 +501,16 @@ def build_parser():
     p.add_argument("library")
     p.add_argument("--world", type=int, required=True)
     p.add_argument("--out", required=True)
-    p = commands.add_parser("preview", help="contact sheet PNG of worlds' paths")
+    p = commands.add_parser("preview", help="contact sheet PNG of worlds: scene, paths and legend")
     p.add_argument("library")
     p.add_argument("--worlds", required=True, help="comma-separated world numbers")
     p.add_argument("--out", required=True)
     p.add_argument("--camera", default="Camera")
     p.add_argument("--objects", help="objects whose paths are drawn (default: every simulated object)")
     p.add_argument("--tile-width", type=int, default=320)
+    p.add_argument("--engine", choices=("auto", "workbench", "cycles", "none"), default="auto",
+                   help="renderer of the scene behind the paths (auto: Workbench with a GL context, "
+                        "else Cycles; none: paths on a plain background)")
     commands.add_parser("help", help="show this help")
     return parser
 

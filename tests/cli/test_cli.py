@@ -9,6 +9,7 @@ import sys
 import time
 import zlib
 
+import numpy as np
 import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -16,9 +17,9 @@ CLI = os.path.join(ROOT, "addon", "many_worlds", "cli.py")
 QUICKSTART = os.path.join(ROOT, "blend_examples", "quickstart", "quickstart.blend")
 
 
-def cli(*args, blend=QUICKSTART, check=True):
+def cli(*args, blend=QUICKSTART, check=True, env=None):
     command = ["blender", "-b", blend, "--python-exit-code", "1", "--python", CLI, "--", *args]
-    result = subprocess.run(command, capture_output=True, text=True)
+    result = subprocess.run(command, capture_output=True, text=True, env=None if env is None else {**os.environ, **env})
     if check:
         assert result.returncode == 0, result.stdout[-1500:] + result.stderr[-1500:]
     return result
@@ -108,18 +109,90 @@ def read_png(path):
     return width, height, rows
 
 
-def test_preview_draws_one_labelled_tile_per_world(library, tmp_path):
+def png_array(path):
+    import numpy as np
+    width, height, rows = read_png(path)
+    return np.frombuffer(b"".join(rows), dtype=np.uint8).reshape(height, width, 3)
+
+
+def tiles_of(sheet, tile_width, columns=2, rows=2):
+    """The sheet's tiles, row by row, without their borders and the world label's corner."""
+    tile_height = (sheet.shape[0] - legend_height(sheet)) // rows - 2
+    return [sheet[r * (tile_height + 2) + 1:(r + 1) * (tile_height + 2) - 1, c * (tile_width + 2) + 1:
+                  (c + 1) * (tile_width + 2) - 1][25:] for r in range(rows) for c in range(columns)]
+
+
+def legend_height(sheet):
+    """Rows of the legend strip below the tiles (the background colour the tile borders lack)."""
+    border = (sheet[:, 0] == 60).all(axis=-1)
+    return sheet.shape[0] - 1 - int(np.flatnonzero(border)[-1]) if border.any() else 0
+
+
+def colour_pixels(image, colour, tolerance=8):
+    import numpy as np
+    return int((np.abs(image.astype(int) - np.array(colour)).max(axis=-1) <= tolerance).sum())
+
+
+def path_colours():
+    sys.path.insert(0, os.path.join(ROOT, "addon"))
+    from many_worlds.core import palette
+    return [palette.to_bytes(c) for c in palette.PALETTE]
+
+
+def test_preview_draws_one_labelled_tile_per_world_with_objects_in_their_colours(library, tmp_path):
     out = tmp_path / "sheet.png"
-    cli("preview", str(library), "--worlds", "0,1,2,3", "--out", str(out), "--tile-width", "200")
-    width, height, rows = read_png(out)
-    assert width == 2 * 202
-    background = bytes((24, 24, 28))
-    # Each tile shows path colours, not only background.
-    for ty in range(2):
-        for tx in range(2):
-            tile = [rows[y][3 * x:3 * x + 3] for y in range(ty * (height // 2) + 25, (ty + 1) * (height // 2) - 2)
-                    for x in range(tx * 202 + 2, (tx + 1) * 202 - 1)]
-            assert sum(p != background for p in tile) > 50
+    cli("preview", str(library), "--worlds", "0,1,2,3", "--out", str(out), "--tile-width", "200", "--engine", "none")
+    sheet = png_array(out)
+    assert sheet.shape[1] == 2 * 202
+    background = (24, 24, 28)
+    # Each tile shows path colours, not only background, and the five objects apart.
+    for tile in tiles_of(sheet, 200):
+        assert tile.size // 3 - colour_pixels(tile, background, 0) > 50
+        assert sum(colour_pixels(tile, colour, 0) > 10 for colour in path_colours()) >= 3
+    # The legend below the tiles: a swatch per object of the example, in the paths' colours.
+    legend = sheet[-legend_height(sheet):]
+    assert [colour_pixels(legend, colour, 0) >= 16 for colour in path_colours()[:6]] == [True] * 5 + [False]
+
+
+def scene_pixels(tile):
+    """Pixels of a tile that are neither paths nor near black: the rendered scene."""
+    import numpy as np
+    near_path = np.zeros(tile.shape[:2], dtype=bool)
+    for colour in path_colours():
+        near_path |= np.abs(tile.astype(int) - np.array(colour)).max(axis=-1) <= 8
+    return tile[~near_path & (tile.max(axis=-1) > 40)]
+
+
+@pytest.mark.parametrize("env,renderer", [({}, "Workbench"), ({"GALLIUM_DRIVER": "none"}, "Cycles")],
+                         ids=["gl", "no-gl"])
+def test_preview_draws_the_rendered_scene_behind_the_paths(library, tmp_path, env, renderer):
+    """Without a GL context (GALLIUM_DRIVER=none makes Mesa's fail) the scene is rendered with Cycles."""
+    out = tmp_path / "sheet.png"
+    result = cli("preview", str(library), "--worlds", "0,1,2,3", "--out", str(out), "--tile-width", "240", env=env)
+    assert f"many_worlds: rendering the scene with {renderer} (" in result.stderr, result.stderr[-800:]
+    sheet = png_array(out)
+    for tile in tiles_of(sheet, 240):
+        scene = scene_pixels(tile)
+        # Most of the tile is the lit scene (floor, ramp, bins), not black and not flat.
+        assert len(scene) > 0.6 * tile.shape[0] * tile.shape[1], len(scene)
+        assert scene.std() > 10
+        assert sum(colour_pixels(tile, colour) > 10 for colour in path_colours()) >= 3
+    if os.environ.get("MWB_TEST_ARTIFACTS") and renderer == "Workbench":
+        shutil.copy(out, os.path.join(os.environ["MWB_TEST_ARTIFACTS"], "contact_sheet.png"))
+
+
+def test_preview_tiles_show_each_world_at_its_last_frame(library, tmp_path):
+    """The objects stand where each world left them: tiles of different worlds differ beyond their paths."""
+    import numpy as np
+    out = tmp_path / "sheet.png"
+    cli("preview", str(library), "--worlds", "0,0,1,1", "--out", str(out), "--tile-width", "480", "--engine",
+        "workbench", "--objects", "Marble")
+    same_a, same_b, other_a, _ = tiles_of(png_array(out), 480)
+    assert np.array_equal(same_a, same_b)
+    marble = path_colours()[3]
+    off_paths = (np.abs(same_a.astype(int) - marble).max(axis=-1) > 40) & (np.abs(other_a.astype(int) - marble).max(axis=-1) > 40)
+    moved = (np.abs(same_a.astype(int) - other_a.astype(int)).max(axis=-1) > 30) & off_paths
+    assert moved.sum() > 60, moved.sum()
 
 
 @pytest.mark.parametrize("args,phrase", [
