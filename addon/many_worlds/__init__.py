@@ -40,6 +40,8 @@ def unregister():
     import bpy
     from . import draw, handlers, keymaps, preview, props, scene_boxes
     from .core.session import SESSION
+    from .thumbnails import THUMBNAILS
+    from .ui import legend
     from .operators import sampling
     from . import compat
     compat.unregister_cli_command()
@@ -47,6 +49,8 @@ def unregister():
     # Put the user's scene back before the properties that describe it go away.
     preview.end_all_previews()
     keymaps.remove()
+    THUMBNAILS.unregister()
+    legend.unregister()
     draw.remove_handlers()
     handlers.remove()
     scene_boxes.RANKING.clear()

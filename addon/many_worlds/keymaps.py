@@ -4,6 +4,10 @@ Ctrl+Alt+left-drag draws a positive box and Ctrl+Alt+Shift+left-drag a negative 
 Mode (Blender's default keymap binds that chord only in Grease Pencil, Mask, Clip and Node
 editors and mesh Edit Mode, so Object Mode is free). The "Query Box" toolbar tool binds plain
 left-drag and Shift+left-drag the same way.
+
+Alt+Down and Alt+Up preview the next and the previous world of the ranking. They sit in the
+"Frames" keymap, beside the playback keys, so they work over any editor and while the timeline
+plays (Blender binds Alt+Up/Down only in text editing and the file browser, which keep them).
 """
 import bpy
 
@@ -37,6 +41,11 @@ def add():
         for shift in (False, True):
             item = keymap.keymap_items.new("mwb.draw_box", "LEFTMOUSE", "CLICK_DRAG", ctrl=True, alt=True, shift=shift)
             item.properties.negative = shift
+            _ITEMS.append((keymap, item))
+        keymap = keyconfig.keymaps.new(name="Frames", space_type="EMPTY")
+        for key, step in (("DOWN_ARROW", 1), ("UP_ARROW", -1)):
+            item = keymap.keymap_items.new("mwb.step_world", key, "PRESS", alt=True)
+            item.properties.step = step
             _ITEMS.append((keymap, item))
     if not _TOOL:
         bpy.utils.register_tool(MWB_WT_query_box, separator=True)

@@ -3,7 +3,9 @@ putting it back: thumbnails in the panel and the command line's contact sheet bo
 
 Each simulated object present in the world is moved to its pose there; an object whose body the
 world lacks is hidden. The scene's rigid body world is switched off meanwhile, or Blender's own
-simulation would move the objects back. Everything is restored when the `with` block ends.
+simulation would move the objects back. Everything is restored when the `with` block ends. The
+add-on's own depsgraph handlers (which watch for the user's edits during a preview) are held back
+meanwhile: the pose is no edit.
 """
 import contextlib
 
@@ -32,6 +34,23 @@ def world_pose(library, world, frame, bodies):
 
 
 @contextlib.contextmanager
+def own_depsgraph_handlers_held():
+    """Within the block, this add-on's depsgraph update handlers are not called."""
+    import bpy
+    handlers = bpy.app.handlers.depsgraph_update_post
+    package = __package__ or __name__.rpartition(".")[0]
+    held = [f for f in handlers if getattr(f, "__module__", "").startswith(package + ".")]
+    for function in held:
+        handlers.remove(function)
+    try:
+        yield
+    finally:
+        for function in held:
+            if function not in handlers:
+                handlers.append(function)
+
+
+@contextlib.contextmanager
 def posed(scene, view_layer, view, world, frame, hide_render=False):
     """Within the block, the scene's objects stand as `world` has them at recorded `frame`.
 
@@ -39,6 +58,13 @@ def posed(scene, view_layer, view, world, frame, hide_render=False):
     restoring. hide_render: also hide absent objects from rendering (the command line renders).
     """
     import bpy
+    with own_depsgraph_handlers_held():
+        with _posed(bpy, scene, view_layer, view, world, frame, hide_render):
+            yield
+
+
+@contextlib.contextmanager
+def _posed(bpy, scene, view_layer, view, world, frame, hide_render):
     simulated = set(view.simulated_bodies())
     pose = world_pose(view.library, world, frame, simulated)
     moved, hidden = [], []

@@ -43,7 +43,8 @@ def our_handlers():
 
 
 def our_keymap_items():
-    """The add-on's two keymap items and its toolbar tool's two (in a keymap of the default keyconfig)."""
+    """The add-on's keymap items (two draw boxes, two step through the ranking) and its toolbar tool's two
+    (in a keymap of the default keyconfig)."""
     keyconfigs = bpy.context.window_manager.keyconfigs
     return [item for keyconfig in (keyconfigs.addon, keyconfigs.default) for keymap in keyconfig.keymaps
             for item in keymap.keymap_items if item.idname.startswith("mwb.")]
@@ -65,7 +66,7 @@ def test_register_unregister_cycles_leave_no_handlers_timers_or_draw_callbacks(t
     run = SESSION.engine
     assert bpy.app.timers.is_registered(sampling.poll_sampling)
     assert len(our_handlers()) == 4 and paths.OVERLAY.active and boxes.OVERLAY.active and world_label.OVERLAY.active
-    assert len(our_keymap_items()) == 4 and query_box_tool_registered()
+    assert len(our_keymap_items()) == 6 and query_box_tool_registered()
     for _ in range(3):
         many_worlds.unregister()
         assert our_handlers() == [] and our_keymap_items() == [] and not query_box_tool_registered()
@@ -77,7 +78,7 @@ def test_register_unregister_cycles_leave_no_handlers_timers_or_draw_callbacks(t
         assert not hasattr(bpy.types, "MWB_PT_refine")
         many_worlds.register()
         assert len(our_handlers()) == 4 and paths.OVERLAY.active and boxes.OVERLAY.active and world_label.OVERLAY.active
-        assert len(our_keymap_items()) == 4 and query_box_tool_registered()
+        assert len(our_keymap_items()) == 6 and query_box_tool_registered()
         assert bpy.context.scene.mwb.world_count == 2000, "saved settings survive re-registration"
     # Unregistering stopped the engine; the worlds it finished are in the file.
     assert run.returncode() is not None and SESSION.engine is None

@@ -5,8 +5,8 @@ Run by tests/viewport/run.sh:
       --python tests/viewport/test_paths_drawn.py -- OUT_DIR
 The add-on reopens the library on load (load_post). Screenshots of the window are taken with the
 paths on, with a world selected, with the selected world's paths drawn alone, with the paths off
-and with no world selected; the 3D viewport's pixels must show the path colour (and the selected
-world's colour) only while drawing is on. The selected world must show (nearly) as many pixels
+and with no world selected; the 3D viewport's pixels must show each box's path colour (and the
+selected world's colour) only while drawing is on. The selected world must show (nearly) as many pixels
 among the other paths as alone: it is drawn on top. The label naming the selected world (in the
 selected world's colour, bottom-left) must be drawn there only while a world is selected.
 Exit code 0 = pass.
@@ -21,6 +21,7 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 from many_worlds.core.session import SESSION  # noqa: E402
+from many_worlds.core import palette  # noqa: E402
 from many_worlds.draw import paths, world_label  # noqa: E402
 from viewport_helpers import colour_mask, viewport  # noqa: E402
 import viewport_helpers  # noqa: E402
@@ -45,11 +46,13 @@ def label_corner(rgb):
 
 
 def counts(rgb):
-    """Pixels of the matching colour, of the selected world's colour outside the label's corner
-    (its paths) and inside it (the label)."""
+    """Pixels of each object's colour (Box0, Box1, Box2: the first three of the palette; matching
+    is Box0's), of the selected world's colour outside the label's corner (its paths) and inside
+    it (the label)."""
     corner = label_corner(rgb)
     selected = colour_mask(rgb, paths.SELECTED_COLOR)
-    return {"matching": int(colour_mask(rgb, paths.MATCHING_COLOR).sum()),
+    objects = [int(colour_mask(rgb, palette.PALETTE[k]).sum()) for k in range(4)]
+    return {"matching": objects[0], "objects": objects,
             "selected": int((selected & ~corner).sum()), "label": int((selected & corner).sum())}
 
 
@@ -109,6 +112,8 @@ def steps():
         json.dump(results, f, indent=1)
     print("viewport pixel counts:", results)
     assert results["paths_on"]["matching"] > 300, results
+    # Each box's paths in its own colour, and no paths in a colour no object has.
+    assert min(results["paths_on"]["objects"][:3]) > 300 and results["paths_on"]["objects"][3] < 20, results
     assert results["world_selected"]["selected"] > 100, results
     # Neither the other paths nor the scene hide the selected world: it shows as among none.
     assert results["world_selected"]["selected"] > 0.9 * results["selected_alone"]["selected"], results

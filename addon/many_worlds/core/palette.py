@@ -54,6 +54,12 @@ def rejected(colour):
     return tuple(grey) + (REJECTED_ALPHA,)
 
 
+def over(colour, background):
+    """(r, g, b): an (r, g, b, a) colour blended over an opaque background."""
+    a = colour[3]
+    return tuple(c * a + b * (1 - a) for c, b in zip(colour[:3], background))
+
+
 def to_bytes(colour):
     """(r, g, b) in [0, 1] -> 0..255 ints, for images."""
     return tuple(int(round(255 * max(0.0, min(1.0, c)))) for c in colour[:3])

@@ -1,9 +1,10 @@
 """The path overlay: every sampled path of the chosen bodies in the 3D viewport.
 
-Matching worlds are drawn bright, the others faint (and, with Family of Selected World on, every
+Each object's paths have its own colour (core.palette; the panel's legend names them). Matching
+worlds are drawn bright, the others faint and greyed (and, with Family of Selected World on, every
 world outside that family). While a world is selected, the other paths are dimmed and the selected
-world's paths are drawn last, twice as wide and without depth test, so neither other paths nor the
-scene's geometry hide them. A body is drawn only in the worlds it exists in (bodies can be added
+world's paths are drawn last without depth test, so neither other paths nor the scene's geometry
+hide them: a cyan band twice as wide with the objects' colours along its middle. A body is drawn only in the worlds it exists in (bodies can be added
 to and removed from worlds). Batches are cached and rebuilt only when the library's data or
 match state (LibraryView.version), the chosen bodies or the selected world change; per-world line
 segments are cached too, so a new world costs only its own arrays.
@@ -14,12 +15,10 @@ import numpy as np
 from gpu_extras.batch import batch_for_shader
 
 from .. import compat
-from ..core import arrays
+from ..core import arrays, palette
 from ..core.session import SESSION
 from .overlay import ViewportOverlay
 
-MATCHING_COLOR = (1.0, 0.45, 0.05, 0.9)
-REJECTED_COLOR = (0.55, 0.55, 0.6, 0.12)
 SELECTED_COLOR = (0.1, 0.85, 1.0, 1.0)
 # While a world is selected, the other paths' alpha is scaled by this, so the selected one stands out.
 DIMMED_ALPHA = 0.35
@@ -71,25 +70,39 @@ class PathOverlay(ViewportOverlay):
             return None
         return batch_for_shader(self._shader, "LINES", {"pos": np.concatenate(parts)})
 
+    def _colour_groups(self, view, bodies):
+        """[(colour, bodies)]: the chosen bodies grouped by their object's colour."""
+        colours = palette.body_colours(view.body_names, view.simulated_bodies())
+        groups = {}
+        for b in bodies:
+            groups.setdefault(colours[b], []).append(b)
+        return [(colour, tuple(group)) for colour, group in groups.items()]
+
     def _rebuild(self, view, bodies, selected, family_only):
         if self._shader is None:
             self._shader = compat.builtin_shader("POLYLINE_UNIFORM_COLOR")
         family = view.family(selected) if family_only else None
-        matching, rejected = [], []
-        for world, match in zip(view.world_indices, view.matching):
-            match = match and (family is None or world in family)
-            if world != selected:
-                (matching if match else rejected).append(self.world_segments(view, world, bodies))
         has_selected = selected in view.world_indices
+        groups = self._colour_groups(view, bodies)
         self._batches = []
-        for parts, colour in ((rejected, REJECTED_COLOR), (matching, MATCHING_COLOR)):
-            batch = self._batch(parts)
-            if batch is not None:
-                self._batches.append((batch, dimmed(colour) if has_selected else colour, 1.0, False))
+        # Rejected worlds first, so matching ones draw over them.
+        for is_match, shade in ((False, palette.rejected), (True, palette.matching)):
+            for colour, group in groups:
+                parts = [self.world_segments(view, world, group)
+                         for world, match in zip(view.world_indices, view.matching)
+                         if world != selected and bool(match and (family is None or world in family)) == is_match]
+                batch = self._batch(parts)
+                if batch is not None:
+                    colour = shade(colour)
+                    self._batches.append((batch, dimmed(colour) if has_selected else colour, 1.0, False))
         if has_selected:
-            batch = self._batch([self.world_segments(view, selected, bodies)])
-            if batch is not None:
-                self._batches.append((batch, SELECTED_COLOR, SELECTED_WIDTH, True))
+            band = self._batch([self.world_segments(view, selected, bodies)])
+            if band is not None:
+                self._batches.append((band, SELECTED_COLOR, SELECTED_WIDTH, True))
+            for colour, group in groups:
+                batch = self._batch([self.world_segments(view, selected, group)])
+                if batch is not None:
+                    self._batches.append((batch, colour[:3] + (1.0,), 1.0, True))
 
     def batches_for(self, context):
         """The batches to draw now (rebuilt if their inputs changed); [] when there is nothing."""

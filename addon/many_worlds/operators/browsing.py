@@ -121,4 +121,40 @@ class MWB_OT_go_to_parent(bpy.types.Operator):
         return {"FINISHED"}
 
 
-classes = (MWB_OT_open_library, MWB_OT_select_world, MWB_OT_go_to_parent)
+def stepped_world(ranked, world, step):
+    """The world `step` rows from `world` in the ranked worlds, wrapping round; from a world the
+    ranking lacks, the first (forward) or last (backward). None when nothing is ranked."""
+    ranked = [int(w) for w in ranked]
+    if not ranked:
+        return None
+    if world not in ranked:
+        return ranked[0] if step > 0 else ranked[-1]
+    return ranked[(ranked.index(world) + step) % len(ranked)]
+
+
+class MWB_OT_step_world(bpy.types.Operator):
+    """Preview the next (or previous) world of the ranking; works while the timeline plays"""
+    bl_idname = "mwb.step_world"
+    bl_label = "Step World"
+    bl_options = {"REGISTER", "UNDO"}
+
+    step: bpy.props.IntProperty(name="Step", default=1, description="Rows down the ranking (negative: up)")
+
+    @classmethod
+    def poll(cls, context):
+        return SESSION.view is not None
+
+    def execute(self, context):
+        settings = context.scene.mwb
+        ranking = scene_boxes.RANKING.get(context)
+        world = stepped_world(ranking.ids, settings.selected_world, self.step)
+        if world is None:
+            self.report({"WARNING"}, "No world is ranked")
+            return {"CANCELLED"}
+        settings.world_list_index = SESSION.view.world_indices.index(world)
+        row = ranking.position[world]
+        self.report({"INFO"}, f"World {world}: {row + 1} of {len(ranking.ids)} in the ranking")
+        return {"FINISHED"}
+
+
+classes = (MWB_OT_open_library, MWB_OT_select_world, MWB_OT_go_to_parent, MWB_OT_step_world)

@@ -1,4 +1,4 @@
 """Panels and lists."""
-from . import lists, panels
+from . import filmstrip, lists, panels
 
-classes = (*lists.classes, *panels.classes)
+classes = (*lists.classes, *panels.classes, *filmstrip.classes)

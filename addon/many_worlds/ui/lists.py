@@ -5,6 +5,7 @@ from .. import scene_boxes
 from ..core import family as core_family
 from ..core.session import SESSION
 from ..draw.boxes import view_matches
+from . import filmstrip
 
 
 _RELATION_ICONS = {core_family.SELECTED: "RADIOBUT_ON", core_family.ROOT: "WORLD",
@@ -120,7 +121,8 @@ class MWB_UL_ranking(bpy.types.UIList):
         rank.label(text=f"{row_index + 1}." if row_index is not None else "-")
         world.label(text=str(item.world_index))
         if row_index is not None:
-            value.label(text=scene_boxes.format_metric(metric, ranking.values[row_index], box_count))
+            value.label(text=scene_boxes.format_metric(metric, ranking.values[row_index], box_count),
+                        **filmstrip.row_icon(context, item.world_index))
 
 
 class MWB_UL_libraries(bpy.types.UIList):

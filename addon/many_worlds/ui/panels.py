@@ -5,7 +5,7 @@ import textwrap
 import bpy
 
 from .. import props, scene_boxes
-from . import lists
+from . import filmstrip, legend, lists
 from ..core import library_query
 from ..core.export_warnings import grouped_warning_lines
 from ..operators import sampling
@@ -107,6 +107,7 @@ class MWB_PT_worlds(SidebarPanel, bpy.types.Panel):
         row.prop(settings, "show_paths")
         row.prop(settings, "path_width")
         layout.prop(settings, "path_bodies")
+        legend.draw_legend(layout, context)
         row = layout.row(align=True)
         row.operator("mwb.end_preview", icon="LOOP_BACK")
         row.operator("mwb.bake_world", icon="KEYINGSET")
@@ -217,6 +218,7 @@ class MWB_PT_ranking(LibraryPanel, bpy.types.Panel):
         value.label(text=settings.bl_rna.properties["rank_metric"].enum_items[settings.rank_metric].name)
         # Same collection and active index as the Worlds list: clicking a row previews the world.
         layout.template_list("MWB_UL_ranking", "", settings, "worlds", settings, "world_list_index", rows=8)
+        filmstrip.draw_filmstrip(layout, context)
 
 
 class MWB_PT_object_variation(bpy.types.Panel):

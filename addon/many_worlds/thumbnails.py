@@ -1,0 +1,195 @@
+"""Thumbnails of worlds for the ranking: the scene seen from its camera with a world's objects
+posed at one recorded frame, drawn on the GPU (an offscreen draw of the 3D view) and kept as
+preview icons.
+
+Drawing a row only asks for its thumbnail: the ones missing are made later by a timer, a few
+per tick within a time budget, so the list never waits for them. They are kept per world and
+frame until the library, the scene camera (where it is, its lens) or the render size changes.
+A scene without a camera has no thumbnails.
+"""
+import time
+
+import bpy
+import bpy.utils.previews
+import gpu
+import numpy as np
+
+from . import posing
+from .core.session import SESSION
+
+IMAGE_WIDTH = 160      # pixels; the height follows the render's aspect
+ICON_PIXELS = 32       # the square icon a list row shows: the middle of the image
+BUDGET_S = 0.05        # drawing time one timer tick may spend (at least one thumbnail a tick)
+TICK_S = 0.02
+
+
+def camera_signature(scene):
+    """What a thumbnail depends on besides the world, or None without a scene camera."""
+    camera = scene.camera
+    if camera is None or camera.type != "CAMERA":
+        return None
+    data = camera.data
+    render = scene.render
+    return (scene.name, camera.name, tuple(round(v, 5) for row in camera.matrix_world for v in row),
+            data.type, round(data.lens, 4), round(data.ortho_scale, 4), round(data.sensor_width, 4),
+            data.sensor_fit, round(data.shift_x, 4), round(data.shift_y, 4),
+            render.resolution_x, render.resolution_y, render.pixel_aspect_x, render.pixel_aspect_y)
+
+
+def image_size(scene):
+    render = scene.render
+    aspect = (render.resolution_y * render.pixel_aspect_y) / max(1e-6, render.resolution_x * render.pixel_aspect_x)
+    return IMAGE_WIDTH, max(8, int(round(IMAGE_WIDTH * aspect)))
+
+
+def icon_pixels(rgba):
+    """The middle square of an image (height, width, 4), resampled to ICON_PIXELS."""
+    height, width = rgba.shape[:2]
+    side = min(height, width)
+    top, left = (height - side) // 2, (width - side) // 2
+    index = (np.arange(ICON_PIXELS) * side / ICON_PIXELS).astype(int)
+    return rgba[top + index][:, left + index]
+
+
+def view_3d():
+    """(window, space, region) of a 3D view to draw with, or None when no window shows one."""
+    wm = bpy.context.window_manager
+    for window in (wm.windows if wm else []):
+        for area in window.screen.areas:
+            if area.type == "VIEW_3D":
+                region = next((r for r in area.regions if r.type == "WINDOW"), None)
+                if region is not None:
+                    return window, area.spaces.active, region
+    return None
+
+
+def draw_posed(scene, view_layer, space, region, world, frame, size):
+    """RGBA float (height, width, 4), rows bottom first: the scene from its camera with `world`
+    posed at recorded `frame`, drawn as the 3D view's shading draws it, without overlays."""
+    width, height = size
+    camera = scene.camera
+    offscreen = gpu.types.GPUOffScreen(width, height)
+    overlays = space.overlay.show_overlays
+    space.overlay.show_overlays = False
+    try:
+        with posing.posed(scene, view_layer, SESSION.view, world, frame):
+            projection = camera.calc_matrix_camera(view_layer.depsgraph, x=width, y=height,
+                                                   scale_x=scene.render.pixel_aspect_x,
+                                                   scale_y=scene.render.pixel_aspect_y)
+            offscreen.draw_view3d(scene, view_layer, space, region, camera.matrix_world.inverted(), projection,
+                                  do_color_management=True)
+            with offscreen.bind():
+                buffer = gpu.state.active_framebuffer_get().read_color(0, 0, width, height, 4, 0, "FLOAT")
+    finally:
+        space.overlay.show_overlays = overlays
+        offscreen.free()
+    buffer.dimensions = width * height * 4
+    rgba = np.array(buffer, dtype=np.float32).reshape(height, width, 4)
+    rgba[..., 3] = 1.0
+    return rgba
+
+
+class ThumbnailCache:
+    """Preview icons of (world, recorded frame), made lazily by a timer."""
+
+    def __init__(self):
+        self._previews = None
+        self._signature = None
+        self._wanted = {}          # key -> (world, frame), oldest request first
+        self._timer_running = False
+        self.made = 0              # thumbnails made since the add-on was registered
+        self.seconds = 0.0         # time spent making them (posing, drawing, reading back)
+        self._tick_function = self._tick   # one bound method, so the timer can be found again
+
+    @staticmethod
+    def key(world, frame):
+        return f"{world}:{frame}"
+
+    def _valid(self, scene):
+        """The cache for this library and camera (emptied when either changed); False without them."""
+        view = SESSION.view
+        signature = camera_signature(scene)
+        if view is None or signature is None:
+            return False
+        signature = (id(view), view.path) + signature
+        if signature != self._signature:
+            self.clear()
+            self._signature = signature
+        return True
+
+    def icon(self, scene, world, frame=None):
+        """icon_id of the thumbnail of `world` at recorded `frame` (default: its last frame), or 0
+        while it is being made (then it is asked for) or when there can be none."""
+        if not self._valid(scene) or world not in SESSION.view.world_indices:
+            return 0
+        if frame is None:
+            frame = posing.last_frame(SESSION.view.library, world)
+        key = self.key(world, frame)
+        if self._previews is not None and key in self._previews:
+            return self._previews[key].icon_id
+        self._wanted[key] = (world, frame)
+        if not self._timer_running:
+            self._timer_running = True
+            bpy.app.timers.register(self._tick_function, first_interval=TICK_S)
+        return 0
+
+    def pixels(self, world, frame):
+        """The made image as RGBA float (height, width, 4), or None."""
+        key = self.key(world, frame)
+        if self._previews is None or key not in self._previews:
+            return None
+        preview = self._previews[key]
+        width, height = preview.image_size
+        return np.array(preview.image_pixels_float[:], dtype=np.float32).reshape(height, width, 4)
+
+    def pending(self):
+        return len(self._wanted)
+
+    def _tick(self):
+        target = view_3d()
+        scene = bpy.context.scene
+        if target is None or not self._valid(scene):
+            self._wanted.clear()
+        start = time.perf_counter()
+        while self._wanted and (time.perf_counter() - start < BUDGET_S):
+            key, (world, frame) = next(iter(self._wanted.items()))
+            del self._wanted[key]
+            if world in SESSION.view.world_indices:
+                self._make(scene, target, key, world, frame)
+        for area in (bpy.context.screen.areas if bpy.context.screen else []):
+            area.tag_redraw()
+        if self._wanted:
+            return TICK_S
+        self._timer_running = False
+        return None
+
+    def _make(self, scene, target, key, world, frame):
+        window, space, region = target
+        size = image_size(scene)
+        began = time.perf_counter()
+        rgba = draw_posed(scene, window.view_layer, space, region, world, frame, size)
+        if self._previews is None:
+            self._previews = bpy.utils.previews.new()
+        preview = self._previews.new(key)
+        preview.image_size = size
+        preview.image_pixels_float = rgba.ravel().tolist()
+        preview.icon_size = (ICON_PIXELS, ICON_PIXELS)
+        preview.icon_pixels_float = icon_pixels(rgba).ravel().tolist()
+        self.seconds += time.perf_counter() - began
+        self.made += 1
+
+    def clear(self):
+        self._wanted.clear()
+        if self._previews is not None:
+            bpy.utils.previews.remove(self._previews)
+            self._previews = None
+        self._signature = None
+
+    def unregister(self):
+        self.clear()
+        if bpy.app.timers.is_registered(self._tick_function):
+            bpy.app.timers.unregister(self._tick_function)
+        self._timer_running = False
+
+
+THUMBNAILS = ThumbnailCache()

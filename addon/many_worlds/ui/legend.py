@@ -1,0 +1,56 @@
+"""The legend of the path colours in the panel: one row per drawn object, its colour as a swatch
+icon (a panel cannot draw a colour by itself; preview icons made of one colour can), and how
+rejected worlds look."""
+import bpy
+import bpy.utils.previews
+
+from ..core import palette
+from ..core.session import SESSION
+from ..draw import paths
+
+SWATCH_PIXELS = 16
+VIEWPORT_GREY = (0.24, 0.24, 0.24)
+_SWATCHES = []   # one bpy.utils.previews collection while the add-on is registered
+
+
+def swatch_icon(colour):
+    """icon_id of a square of `colour` ((r, g, b) or (r, g, b, a) in display space), made once."""
+    if not _SWATCHES:
+        _SWATCHES.append(bpy.utils.previews.new())
+    swatches = _SWATCHES[0]
+    rgba = list(colour[:3]) + [colour[3] if len(colour) > 3 else 1.0]
+    key = "%.3f %.3f %.3f %.3f" % tuple(rgba)
+    if key not in swatches:
+        icon = swatches.new(key)
+        icon.icon_size = (SWATCH_PIXELS, SWATCH_PIXELS)
+        icon.icon_pixels_float = rgba * SWATCH_PIXELS ** 2
+    return swatches[key].icon_id
+
+
+def legend_entries(context):
+    """[(object name, (r, g, b))] of the objects whose paths are drawn, in colour order."""
+    view = SESSION.view
+    if view is None:
+        return []
+    drawn = {view.body_names[b] for b in paths.chosen_bodies(context, view)}
+    colours = palette.object_colours(view.body_names, view.simulated_bodies())
+    return [(name, colour) for name, colour in colours.items() if name in drawn]
+
+
+def draw_legend(layout, context):
+    """The colour of each drawn object's paths, and the look of worlds the boxes reject."""
+    entries = legend_entries(context)
+    if not entries or not context.scene.mwb.show_paths:
+        return
+    flow = layout.grid_flow(row_major=True, columns=2, even_columns=True, align=True)
+    for name, colour in entries:
+        flow.label(text=name, icon_value=swatch_icon(colour))
+    if SESSION.view is not None and not SESSION.view.matching.all():
+        # As a rejected path looks over the viewport's grey.
+        faded = palette.over(palette.rejected(entries[0][1]), VIEWPORT_GREY)
+        layout.label(text="Faint grey: rejected", icon_value=swatch_icon(faded))
+
+
+def unregister():
+    while _SWATCHES:
+        bpy.utils.previews.remove(_SWATCHES.pop())
