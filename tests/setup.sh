@@ -5,7 +5,7 @@ set -eu
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BUILD=${MWB_BUILD_DIR:-$ROOT/build}
 
-PACKAGES="cmake g++ make pkg-config libode-dev pybind11-dev nlohmann-json3-dev zlib1g-dev
+PACKAGES="cmake g++ make patch pkg-config pybind11-dev nlohmann-json3-dev zlib1g-dev
 googletest libgtest-dev python3-dev python3-pytest python3-numpy blender xvfb xauth
 clang libclang-rt-14-dev slurm-wlm munge debootstrap"
 # The Flamenco job type is tested with Node.js; use the machine's if it has one.

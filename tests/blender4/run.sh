@@ -14,7 +14,7 @@ ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 CHROOT=${MWB_TRIXIE_ROOT:-/var/cache/mwb/trixie}
 SKIP_STATUS=${MWB_SKIP_STATUS:-0}
 BUILD=$ROOT/build-trixie
-PACKAGES="blender libode-dev pybind11-dev python3-dev cmake g++ make pkg-config nlohmann-json3-dev
+PACKAGES="blender pybind11-dev python3-dev cmake g++ make patch pkg-config nlohmann-json3-dev
 zlib1g-dev googletest libgtest-dev python3-pytest python3-numpy xvfb xauth"
 
 skip() {
@@ -114,12 +114,14 @@ mountpoint -q "$CHROOT/proc" || mount -t proc proc "$CHROOT/proc"
 mountpoint -q "$CHROOT$ROOT" || mount --bind "$ROOT" "$CHROOT$ROOT"
 
 # --- 2. the native module for Python 3.13 --------------------------------------------------------
-# MWB_ADDON_ENGINE_DIR is empty so this build never replaces the host's engine in the add-on.
+# MWB_ADDON_ENGINE_DIR is empty so this build never replaces the host's engine in the add-on. ODE
+# is built from the host's copy of the same Debian 12 sources (Debian 13 has a newer ODE), so the
+# module makes the same worlds as the host's.
 step "build the native module for Python 3.13"
 flock /tmp/mwb-build.lock chroot "$CHROOT" /usr/bin/env -i PATH=/usr/bin:/bin HOME=/root LANG=C.UTF-8 sh -c "
     set -e
     cmake -S '$ROOT' -B '$BUILD' -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=/usr/bin/python3.13 \
-        -DMWB_ADDON_ENGINE_DIR= -DMWB_BUILD_TESTS=OFF > /dev/null
+        -DMWB_ADDON_ENGINE_DIR= -DMWB_BUILD_TESTS=OFF -DMWB_ODE_SOURCE_DIR='$ROOT/build/ode-source' > /dev/null
     cmake --build '$BUILD' --target _native -j2"
 step_done build
 

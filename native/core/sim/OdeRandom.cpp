@@ -1,5 +1,26 @@
 #include "sim/OdeRandom.h"
 
+#ifdef MWB_ODE_PER_THREAD_RANDOM
+
+#include <ode/misc.h>
+
+// Defined by native/ode/per-thread-random.patch.
+extern "C" unsigned long long dRandIntCallsOnThisThread();
+
+namespace mwb {
+
+OdeRandomScope::OdeRandomScope(uint64_t& world_state) : world_state_(world_state) {
+    dRandSetSeed(static_cast<unsigned long>(world_state_ & 0xffffffffull));
+}
+
+OdeRandomScope::~OdeRandomScope() { world_state_ = dRandGetSeed(); }
+
+uint64_t ode_random_calls_on_this_thread() { return dRandIntCallsOnThisThread(); }
+
+}  // namespace mwb
+
+#else  // the system's libode: replace its generator
+
 namespace mwb {
 namespace {
 
@@ -46,3 +67,5 @@ __attribute__((visibility("default"))) int dRandInt(int n) {
 }
 
 }  // extern "C"
+
+#endif

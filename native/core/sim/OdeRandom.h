@@ -1,9 +1,11 @@
 #pragma once
-// ODE's quickstep reorders constraints with dRandInt, which in libode draws from one process-wide
-// seed: results would depend on thread interleaving and on what ran before. This program defines
-// dRand/dRandInt/dRandGetSeed/dRandSetSeed itself (libode.so calls them through its symbol table,
-// so these definitions win) and backs them with a thread-local state that each world loads
-// before it steps and saves after. Tests check the override is really reached.
+// ODE's quickstep reorders constraints with dRandInt. In stock libode that draws from one
+// process-wide seed, so results would depend on thread interleaving and on what ran before. Each
+// world therefore keeps its own generator state and loads it into the stepping thread:
+// - our ODE build (native/ode) keeps the generator's state per thread, so loading is dRandSetSeed;
+// - with the system's libode (MWB_SYSTEM_ODE), this program defines dRand/dRandInt/dRandGetSeed/
+//   dRandSetSeed itself (libode.so calls them through its symbol table, so these definitions win).
+// Both draw the same numbers. Tests check quickstep really draws from the world's state.
 #include <cstdint>
 
 namespace mwb {
@@ -21,7 +23,7 @@ private:
     uint64_t& world_state_;
 };
 
-/// Number of dRandInt calls on this thread that reached our definition (not libode's).
+/// Number of dRandInt calls on this thread that drew from the per-thread state.
 uint64_t ode_random_calls_on_this_thread();
 
 }  // namespace mwb
