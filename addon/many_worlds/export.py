@@ -11,6 +11,8 @@ from dataclasses import dataclass, field
 
 from mathutils import Matrix
 
+from .props import upgrade_saved_variation
+
 SCENE_FORMAT = "mwb-scene"
 SCENE_VERSION = 1
 # Scale components closer than this count as equal (uniform scale).
@@ -170,6 +172,7 @@ class SceneExporter:
     # --- bodies -----------------------------------------------------------------------------
 
     def variation(self, ob):
+        upgrade_saved_variation(ob)
         v = ob.mwb_variation
         fields = {"location_min_m": v.location_min, "location_max_m": v.location_max,
                   "rotation_min_rad": v.rotation_min, "rotation_max_rad": v.rotation_max,

@@ -1,8 +1,8 @@
-"""Application handlers: restoring the browsing state on load and after undo, and the preview on
-frame change."""
+"""Application handlers: restoring the browsing state on load and after undo, the preview on
+frame change, and noticing edits made during a preview."""
 import bpy
 
-from . import preview, scene_boxes
+from . import preview, props, scene_boxes
 from .core.session import SESSION
 from .draw import paths
 from .operators import browsing
@@ -15,6 +15,9 @@ def on_load_post(*_args):
     sampling.stop_for_unregister()
     SESSION.close()
     paths.OVERLAY.clear()
+    preview.forget()
+    for ob in bpy.data.objects:
+        props.upgrade_saved_variation(ob)
     scene = bpy.context.scene
     try:
         browsing.open_library(scene)
@@ -31,6 +34,7 @@ def on_undo_redo(*_args):
 
 _HANDLERS = ((bpy.app.handlers.load_post, on_load_post),
              (bpy.app.handlers.frame_change_pre, preview.on_frame_change),
+             (bpy.app.handlers.depsgraph_update_post, preview.on_depsgraph_update),
              (bpy.app.handlers.undo_post, on_undo_redo),
              (bpy.app.handlers.redo_post, on_undo_redo))
 

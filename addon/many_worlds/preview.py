@@ -1,10 +1,16 @@
 """Preview: pose the scene's simulated objects from the selected world as the timeline moves.
 
-While previewing, the scene's rigid body world is switched off so Blender's own cache does not
-move the objects as well, and each object's own transform is saved in the scene (so even a saved
-and reopened file can be restored). An object whose body does not exist in the previewed world
-(removed from it, or added only to other worlds) stays where it is, drawn as wire, so it can still
-be selected (to add it to the world, say). `end` puts everything back.
+Preview is a state the user sees (the viewport label and the panel say so): the scene's rigid body
+world is paused so Blender's own cache does not move the objects as well, and each object's own
+transform is saved in the scene (so even a saved and reopened file can be restored). An object
+whose body does not exist in the previewed world (removed from it, or added only to other worlds)
+stays where it is, drawn as wire, so it can still be selected (to add it to the world, say). `end`
+puts everything back.
+
+An edit that the preview would undo (moving a posed object, switching the rigid body world back
+on) is not undone behind the user's back: posing stops, and the user is asked to end the preview
+(which restores the scene as it was before it) or to keep previewing (which poses the world again).
+A rigid body world switched on during the preview stays on when it ends.
 """
 import bpy
 from mathutils import Matrix, Quaternion, Vector
@@ -13,6 +19,29 @@ from .core import arrays
 from .core.session import SESSION
 
 ABSENT_DISPLAY = "WIRE"
+# Matrices closer than this (per element) are the same pose: what the preview set, read back.
+SAME_POSE = 1e-4
+
+# Per scene name: what the preview last posed (object name -> matrix_basis) and, once the user
+# changed something the preview owns, the sentence saying what (posing stops until they choose).
+_POSED = {}
+CONFLICTS = {}
+
+
+def conflict(scene):
+    """The edit made during this scene's preview that waits for End Preview or Keep Previewing, or ''."""
+    return CONFLICTS.get(scene.name, "") if scene.mwb.previewing else ""
+
+
+def state_text(scene):
+    """What the preview does to the scene, for the viewport label and the panel, or ''."""
+    settings = scene.mwb
+    if not settings.previewing:
+        return ""
+    if conflict(scene):
+        return conflict(scene)
+    rbw = "Rigid Body World paused, " if scene.rigidbody_world is not None else ""
+    return f"Previewing world {settings.selected_world}: {rbw}End Preview to edit"
 
 
 def _objects_by_body(view, world):
@@ -59,6 +88,7 @@ def begin(scene):
         if rbw is not None:
             rbw.enabled = False
         settings.previewing = True
+    CONFLICTS.pop(scene.name, None)
     apply(scene)
     return True
 
@@ -68,7 +98,7 @@ def apply(scene, frame=None):
     settings = scene.mwb
     view = SESSION.view
     world = settings.selected_world
-    if not settings.previewing or view is None or world not in view.world_indices:
+    if not settings.previewing or view is None or world not in view.world_indices or conflict(scene):
         return
     if frame is None:
         frame = scene.frame_current + scene.frame_subframe
@@ -78,6 +108,8 @@ def apply(scene, frame=None):
     present = view.present(world)
     simulated = set(view.simulated_bodies())
     saved = _saved_items(settings)
+    posed = _POSED.setdefault(scene.name, {})
+    posed.clear()
     for i, ob in _objects_by_body(view, world):
         item = saved.get(ob.name)
         if not present[i]:
@@ -93,6 +125,7 @@ def apply(scene, frame=None):
                 item.restored = False
             scale = ob.matrix_world.to_scale()
             ob.matrix_world = Matrix.LocRotScale(Vector(loc[i, 0]), Quaternion(rot[i, 0]), scale)
+            posed[ob.name] = ob.matrix_basis.copy()
 
 
 def _show_absent(settings, saved, item, ob):
@@ -120,10 +153,83 @@ def end(scene):
             if item.display_type:
                 item.target.display_type = item.display_type
     settings.preview_saved.clear()
-    if scene.rigidbody_world is not None:
-        scene.rigidbody_world.enabled = settings.preview_rigidbody_enabled
+    rbw = scene.rigidbody_world
+    if rbw is not None:
+        # On now means the user switched it on during the preview: it stays on.
+        rbw.enabled = rbw.enabled or settings.preview_rigidbody_enabled
     settings.previewing = False
+    _POSED.pop(scene.name, None)
+    CONFLICTS.pop(scene.name, None)
     return True
+
+
+def forget():
+    """Drop what the preview posed and asked: another file is open."""
+    _POSED.clear()
+    CONFLICTS.clear()
+
+
+def _moved(ob, pose):
+    return any(abs(a - b) > SAME_POSE for row, posed_row in zip(ob.matrix_basis, pose)
+               for a, b in zip(row, posed_row))
+
+
+def find_conflict(scene):
+    """The sentence naming an edit the preview would undo, or '': a posed object moved, or the
+    rigid body world switched on."""
+    rbw = scene.rigidbody_world
+    if rbw is not None and rbw.enabled:
+        return "The Rigid Body World was switched on: End Preview to simulate, or Keep Previewing"
+    posed = _POSED.get(scene.name, {})
+    moved = [name for name, pose in posed.items()
+             if bpy.data.objects.get(name) is not None and _moved(bpy.data.objects[name], pose)]
+    if moved:
+        return f"{', '.join(moved)} moved: End Preview, then edit (the move is undone), or Keep Previewing"
+    return ""
+
+
+def check_edits(scene):
+    """Stop posing when the user changed what the preview owns, and ask them what to do once."""
+    if not scene.mwb.previewing or conflict(scene):
+        return
+    text = find_conflict(scene)
+    if not text:
+        return
+    CONFLICTS[scene.name] = text
+    if not bpy.app.background:
+        bpy.app.timers.register(_ask_to_end, first_interval=0.0)
+    _tag_redraw()
+
+
+def _ask_to_end():
+    wm = bpy.context.window_manager
+    scene = bpy.context.scene
+    if wm is None or not wm.windows or not conflict(scene):
+        return None
+    text = conflict(scene)
+
+    def draw(menu, _context):
+        layout = menu.layout
+        layout.label(text=text, icon="ERROR")
+        layout.operator("mwb.end_preview", icon="LOOP_BACK")
+        layout.operator("mwb.keep_previewing", icon="PLAY")
+
+    with bpy.context.temp_override(window=wm.windows[0]):
+        wm.popup_menu(draw, title="Editing during preview", icon="QUESTION")
+    return None
+
+
+def _tag_redraw():
+    wm = bpy.context.window_manager
+    for window in (wm.windows if wm else []):
+        for area in window.screen.areas:
+            area.tag_redraw()
+
+
+@bpy.app.handlers.persistent
+def on_depsgraph_update(scene, depsgraph=None):
+    if scene.mwb.previewing:
+        check_edits(scene)
 
 
 @bpy.app.handlers.persistent
@@ -140,7 +246,7 @@ def end_all_previews():
 
 
 class MWB_OT_end_preview(bpy.types.Operator):
-    """Stop previewing the selected world and restore the scene as it was"""
+    """Stop previewing: objects back where they were before the preview, and the Rigid Body World as it was"""
     bl_idname = "mwb.end_preview"
     bl_label = "End Preview"
     bl_options = {"REGISTER", "UNDO"}
@@ -154,4 +260,23 @@ class MWB_OT_end_preview(bpy.types.Operator):
         return {"FINISHED"}
 
 
-classes = (MWB_OT_end_preview,)
+class MWB_OT_keep_previewing(bpy.types.Operator):
+    """Pose the previewed world again, undoing the edit made during the preview"""
+    bl_idname = "mwb.keep_previewing"
+    bl_label = "Keep Previewing"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        return bool(conflict(context.scene))
+
+    def execute(self, context):
+        scene = context.scene
+        CONFLICTS.pop(scene.name, None)
+        if scene.rigidbody_world is not None:
+            scene.rigidbody_world.enabled = False
+        apply(scene)
+        return {"FINISHED"}
+
+
+classes = (MWB_OT_end_preview, MWB_OT_keep_previewing)

@@ -1,5 +1,7 @@
 """Properties saved with the .blend: per-object variation ranges and per-scene sampling and
 browsing state. Runtime objects (open library, engine process) live in core.session."""
+import math
+
 import bpy
 from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty, FloatVectorProperty,
                        IntProperty, IntVectorProperty, PointerProperty, StringProperty)
@@ -9,16 +11,81 @@ def _vector(name, subtype, description, unit="NONE"):
     return FloatVectorProperty(name=name, size=3, subtype=subtype, unit=unit, description=description)
 
 
+# Ranges are stored as min and max offsets (what the scene JSON and files saved before the ± fields
+# hold); the panel shows each range as ± around the object's current value, a view of min and max.
+
+def _half_range(low, high, to_shown=1.0):
+    """A FloatVectorProperty reading and writing a min/max pair as its half width (±), keeping
+    the centre; `to_shown` scales stored units to shown ones (rad/s to °/s)."""
+
+    def get(self):
+        return [(b - a) / 2 * to_shown for a, b in zip(getattr(self, low), getattr(self, high))]
+
+    def set(self, values):
+        lows, highs = list(getattr(self, low)), list(getattr(self, high))
+        for k, value in enumerate(values):
+            centre = (lows[k] + highs[k]) / 2
+            half = max(0.0, value / to_shown)
+            lows[k], highs[k] = centre - half, centre + half
+        setattr(self, low, lows)
+        setattr(self, high, highs)
+
+    return get, set
+
+
+def _scaled(name, to_shown=1.0):
+    """A FloatVectorProperty reading and writing a stored vector in shown units."""
+
+    def get(self):
+        return [v * to_shown for v in getattr(self, name)]
+
+    def set(self, values):
+        setattr(self, name, [v / to_shown for v in values])
+
+    return get, set
+
+
+DEG_PER_RAD = 180.0 / math.pi
+
+
+def _plus_minus(name, low, high, subtype, unit, description, to_shown=1.0):
+    get, set = _half_range(low, high, to_shown)
+    return FloatVectorProperty(name=name, size=3, subtype=subtype, unit=unit, min=0.0, get=get, set=set,
+                               description=description)
+
+
 class MWB_ObjectVariation(bpy.types.PropertyGroup):
     """Uniform ranges added to the object's initial state, per sampled world."""
     location_min: _vector("Location Min", "TRANSLATION", "Lowest offset added to the initial location", "LENGTH")
     location_max: _vector("Location Max", "TRANSLATION", "Highest offset added to the initial location", "LENGTH")
     rotation_min: _vector("Rotation Min", "EULER", "Lowest XYZ Euler rotation added to the initial pose")
     rotation_max: _vector("Rotation Max", "EULER", "Highest XYZ Euler rotation added to the initial pose")
-    linear_velocity_min: _vector("Velocity Min", "VELOCITY", "Lowest initial linear velocity (m/s, world)")
-    linear_velocity_max: _vector("Velocity Max", "VELOCITY", "Highest initial linear velocity (m/s, world)")
+    linear_velocity_min: _vector("Velocity Min", "VELOCITY", "Lowest initial linear velocity (m/s, world)",
+                                 "VELOCITY")
+    linear_velocity_max: _vector("Velocity Max", "VELOCITY", "Highest initial linear velocity (m/s, world)",
+                                 "VELOCITY")
     angular_velocity_min: _vector("Angular Velocity Min", "XYZ", "Lowest initial angular velocity (rad/s, world)")
     angular_velocity_max: _vector("Angular Velocity Max", "XYZ", "Highest initial angular velocity (rad/s, world)")
+    # The same ranges as the panel shows them.
+    location_pm: _plus_minus("Location ±", "location_min", "location_max", "TRANSLATION", "LENGTH",
+                             "How far each world may start from the object's location, either way")
+    rotation_pm: _plus_minus("Rotation ±", "rotation_min", "rotation_max", "EULER", "ROTATION",
+                             "How far each world may turn the object's starting rotation, either way (XYZ Euler)")
+    linear_velocity_pm: _plus_minus("Velocity ±", "linear_velocity_min", "linear_velocity_max", "VELOCITY",
+                                    "VELOCITY", "Starting velocity either way around the object's own (world axes)")
+    angular_velocity_pm: _plus_minus("Spin ±", "angular_velocity_min", "angular_velocity_max", "XYZ", "NONE",
+                                     "Starting angular velocity either way around the object's own, degrees per "
+                                     "second (world axes)", DEG_PER_RAD)
+    angular_velocity_min_deg: FloatVectorProperty(
+        name="Spin Min", size=3, subtype="XYZ", get=_scaled("angular_velocity_min", DEG_PER_RAD)[0],
+        set=_scaled("angular_velocity_min", DEG_PER_RAD)[1],
+        description="Lowest starting angular velocity added, degrees per second (world axes)")
+    angular_velocity_max_deg: FloatVectorProperty(
+        name="Spin Max", size=3, subtype="XYZ", get=_scaled("angular_velocity_max", DEG_PER_RAD)[0],
+        set=_scaled("angular_velocity_max", DEG_PER_RAD)[1],
+        description="Highest starting angular velocity added, degrees per second (world axes)")
+    show_min_max: BoolProperty(name="Advanced", default=False,
+                               description="Enter each range as its lowest and highest offset (uneven ranges)")
 
 
 class MWB_WorldItem(bpy.types.PropertyGroup):
@@ -213,11 +280,15 @@ class MWB_SceneSettings(bpy.types.PropertyGroup):
                                       ("MAX", "Max", "The largest value among the bodies")])
     rank_descending: BoolProperty(name="Descending", default=False, update=_tag_redraw,
                                   description="Largest values first")
+    # Numbered: a saved choice is stored by its number, and "Boxes' Objects" came last.
     rank_bodies: EnumProperty(
-        name="Bodies", default="SELECTED", update=_tag_redraw,
-        items=[("SELECTED", "Selected", "The selected objects, or every simulated body when none is selected"),
-               ("SIMULATED", "Simulated", "Every body the simulation moves"),
-               ("LISTED", "Listed", "The bodies stored with Use Selected")])
+        name="Bodies", default="BOXES", update=_tag_redraw,
+        items=[("BOXES", "Boxes' Objects", "The objects the enabled boxes test, or every simulated body "
+                                           "without boxes", 3),
+               ("SIMULATED", "Simulated", "Every body the simulation moves", 1),
+               ("LISTED", "Listed", "The bodies stored with Use Selected", 2),
+               ("SELECTED", "Selected", "The selected objects, or every simulated body when none is selected "
+                                        "(changes with the selection)", 0)])
     rank_body_names: CollectionProperty(type=MWB_BodyName)
     # Goal search
     seek_want: IntProperty(name="Find", default=1, min=1, soft_max=100,
@@ -244,6 +315,28 @@ def register_properties():
 def unregister_properties():
     del bpy.types.Scene.mwb
     del bpy.types.Object.mwb_variation
+
+
+RANGE_NAMES = tuple(f"{quantity}_{end}" for quantity in ("location", "rotation", "linear_velocity",
+                                                         "angular_velocity") for end in ("min", "max"))
+
+
+def upgrade_saved_variation(ob):
+    """Store an object's ranges saved as whole numbers as floats; True if any was.
+
+    A script that writes ob["mwb_variation"] = {"angular_velocity_max": [1, 1, 1], ...} stores an
+    integer array, which the float properties read as zero: the range the file holds would be lost.
+    """
+    raw = ob.get("mwb_variation")
+    if raw is None or not hasattr(raw, "keys"):
+        return False
+    changed = False
+    for name in RANGE_NAMES:
+        value = raw.get(name)
+        if getattr(value, "typecode", None) == "i":
+            raw[name] = [float(x) for x in value]
+            changed = True
+    return changed
 
 
 def resolved_library_path(scene):

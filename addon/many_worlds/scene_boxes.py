@@ -42,13 +42,33 @@ def simulated_body_names(scene):
             and ob.rigid_body.enabled and not ob.rigid_body.kinematic]
 
 
-def default_body_names(context):
-    """The selected objects that are bodies, or every simulated body when none is selected."""
+def body_choice(context, names=None):
+    """(tested, left_out) for a box or a ranking: of the objects named (default: the selected
+    ones), the bodies the simulation moves, or every simulated body when none of them is; left_out
+    names the rigid bodies among them that it does not move (passive or animated), whose paths
+    never change from world to world."""
+    simulated = simulated_body_names(context.scene)
+    moving = set(simulated)
+    if names is None:
+        names = [ob.name for ob in (getattr(context, "selected_objects", None) or [])]
     view = SESSION.view
-    known = set(view.body_names) if view is not None else {
+    bodies = set(view.body_names) if view is not None else {
         ob.name for ob in context.scene.objects if ob.rigid_body is not None}
-    selected = [ob.name for ob in (getattr(context, "selected_objects", None) or []) if ob.name in known]
-    return selected or simulated_body_names(context.scene)
+    tested = [name for name in names if name in moving]
+    left_out = [name for name in names if name in bodies and name not in moving]
+    return (tested or simulated), left_out
+
+
+def left_out_text(left_out):
+    """The warning naming the objects a box leaves out, or ''."""
+    if not left_out:
+        return ""
+    return f"Left out (passive or animated): {', '.join(left_out)}"
+
+
+def default_body_names(context):
+    """The selected objects the simulation moves, or every simulated body when none is selected."""
+    return body_choice(context)[0]
 
 
 def body_indices(names, view):
@@ -64,7 +84,15 @@ def ranking_body_names(context):
         return simulated_body_names(context.scene)
     if settings.rank_bodies == "LISTED":
         return [item.name for item in settings.rank_body_names]
+    if settings.rank_bodies == "BOXES":
+        return boxes_body_names(context.scene)
     return default_body_names(context)
+
+
+def boxes_body_names(scene):
+    """The objects the enabled boxes test, in list order, or every simulated body without boxes."""
+    names = [item.name for box in scene.mwb.boxes if box.enabled for item in box.bodies]
+    return list(dict.fromkeys(names)) or simulated_body_names(scene)
 
 
 # --- boxes -------------------------------------------------------------------------------------------

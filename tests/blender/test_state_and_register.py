@@ -38,7 +38,7 @@ def test_save_and_reopen_restores_library_and_selected_world(tmp_path):
 
 def our_handlers():
     lists = (bpy.app.handlers.load_post, bpy.app.handlers.frame_change_pre, bpy.app.handlers.undo_post,
-             bpy.app.handlers.redo_post)
+             bpy.app.handlers.redo_post, bpy.app.handlers.depsgraph_update_post)
     return [f for handler_list in lists for f in handler_list if f.__module__.startswith("many_worlds")]
 
 
@@ -65,7 +65,7 @@ def test_register_unregister_cycles_leave_no_handlers_timers_or_draw_callbacks(t
     bpy.ops.mwb.sample()
     run = SESSION.engine
     assert bpy.app.timers.is_registered(sampling.poll_sampling)
-    assert len(our_handlers()) == 4 and paths.OVERLAY.active and boxes.OVERLAY.active and world_label.OVERLAY.active
+    assert len(our_handlers()) == 5 and paths.OVERLAY.active and boxes.OVERLAY.active and world_label.OVERLAY.active
     assert len(our_keymap_items()) == 6 and query_box_tool_registered()
     for _ in range(3):
         many_worlds.unregister()
@@ -77,7 +77,7 @@ def test_register_unregister_cycles_leave_no_handlers_timers_or_draw_callbacks(t
         assert not hasattr(bpy.types, "MWB_OT_refine_box") and not hasattr(bpy.types, "MWB_OT_go_to_parent")
         assert not hasattr(bpy.types, "MWB_PT_refine")
         many_worlds.register()
-        assert len(our_handlers()) == 4 and paths.OVERLAY.active and boxes.OVERLAY.active and world_label.OVERLAY.active
+        assert len(our_handlers()) == 5 and paths.OVERLAY.active and boxes.OVERLAY.active and world_label.OVERLAY.active
         assert len(our_keymap_items()) == 6 and query_box_tool_registered()
         assert bpy.context.scene.mwb.world_count == 2000, "saved settings survive re-registration"
     # Unregistering stopped the engine; the worlds it finished are in the file.

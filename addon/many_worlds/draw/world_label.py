@@ -1,10 +1,10 @@
 """The viewport's label of the previewed world, bottom-left in the 3D view's region: its index,
-when it came to rest, and how many of the enabled boxes it meets. Drawn only while a world is
-selected."""
+when it came to rest, and how many of the enabled boxes it meets, under a line saying the scene is
+in preview (or which edit waits for the user to end it). Drawn only while a world is selected."""
 import blf
 import bpy
 
-from .. import scene_boxes
+from .. import preview, scene_boxes
 from ..core import library_query
 from ..core.session import SESSION
 from .overlay import ViewportOverlay
@@ -13,6 +13,9 @@ from .paths import SELECTED_COLOR
 FONT_ID = 0
 FONT_SIZE = 16
 MARGIN = 16        # pixels at UI scale 1 from the region's left (past the toolbar) and bottom edges
+STATE_FONT_SIZE = 12
+STATE_COLOR = (0.9, 0.9, 0.9, 1.0)
+CONFLICT_COLOR = (1.0, 0.55, 0.1, 1.0)
 
 
 def label_text(context):
@@ -63,6 +66,12 @@ class WorldLabel(ViewportOverlay):
         blf.position(FONT_ID, x, y, 0)
         try:
             blf.draw(FONT_ID, text)
+            state = preview.state_text(context.scene)
+            if state:
+                blf.size(FONT_ID, STATE_FONT_SIZE * scale)
+                blf.color(FONT_ID, *(CONFLICT_COLOR if preview.conflict(context.scene) else STATE_COLOR))
+                blf.position(FONT_ID, x, y + (FONT_SIZE + 8) * scale, 0)
+                blf.draw(FONT_ID, state)
         finally:
             blf.disable(FONT_ID, blf.SHADOW)
 

@@ -150,10 +150,12 @@ class MWB_OT_draw_box(BoxDrag, bpy.types.Operator):
         return self.negative or event.shift
 
     def _prepare(self, context):
-        self._bodies = scene_boxes.default_body_names(context)
+        self._bodies, left_out = scene_boxes.body_choice(context)
         if not self._bodies:
-            self.report({"WARNING"}, "No rigid bodies to query")
+            self.report({"WARNING"}, "No simulated rigid bodies to query")
             return False
+        if left_out:
+            self.report({"WARNING"}, scene_boxes.left_out_text(left_out))
         return True
 
     def _dragged(self, context, event):
@@ -192,14 +194,18 @@ class MWB_OT_add_box(bpy.types.Operator):
                                            description="Camera to clip, row-major; all zero: the current 3D view's")
     region_size: IntVectorProperty(name="Region Size", size=2, description="Width, height; 0: the current region's")
     negative: BoolProperty(name="Negative", default=False)
-    bodies: StringProperty(name="Bodies", description="Comma-separated object names; empty: selected or all simulated")
+    bodies: StringProperty(name="Bodies", description="Comma-separated object names; empty: the selected ones. "
+                                                       "Only simulated bodies are kept")
 
     def execute(self, context):
         camera = camera_of(self, context)
         if camera is None:
             return {"CANCELLED"}
         view, projection, size = camera
-        names = [n.strip() for n in self.bodies.split(",") if n.strip()] or scene_boxes.default_body_names(context)
+        asked = [n.strip() for n in self.bodies.split(",") if n.strip()]
+        names, left_out = scene_boxes.body_choice(context, asked or None)
+        if left_out:
+            self.report({"WARNING"}, scene_boxes.left_out_text(left_out))
         x0, y0, x1, y1 = normalized_rect(*self.rect)
         if x1 - x0 <= 0 or y1 - y0 <= 0:
             self.report({"ERROR"}, "The rectangle is empty")
@@ -250,7 +256,7 @@ class MWB_OT_clear_boxes(bpy.types.Operator):
 
 
 class MWB_OT_box_use_selected(bpy.types.Operator):
-    """Make the box test the selected objects (or every simulated body when none is selected)"""
+    """Make the box test the selected objects the simulation moves (passive and animated ones are left out)"""
     bl_idname = "mwb.box_use_selected"
     bl_label = "Use Selected"
     bl_options = {"REGISTER", "UNDO"}
@@ -261,8 +267,11 @@ class MWB_OT_box_use_selected(bpy.types.Operator):
         _, box = _box_at(context, self.index)
         if box is None:
             return {"CANCELLED"}
+        names, left_out = scene_boxes.body_choice(context)
+        if left_out:
+            self.report({"WARNING"}, scene_boxes.left_out_text(left_out))
         box.bodies.clear()
-        for name in scene_boxes.default_body_names(context):
+        for name in names:
             box.bodies.add().name = name
         scene_boxes.refresh(context.scene)
         return {"FINISHED"}
@@ -299,8 +308,11 @@ class MWB_OT_rank_use_selected(bpy.types.Operator):
 
     def execute(self, context):
         settings = context.scene.mwb
+        names, left_out = scene_boxes.body_choice(context)
+        if left_out:
+            self.report({"WARNING"}, scene_boxes.left_out_text(left_out))
         settings.rank_body_names.clear()
-        for name in scene_boxes.default_body_names(context):
+        for name in names:
             settings.rank_body_names.add().name = name
         settings.rank_bodies = "LISTED"
         return {"FINISHED"}

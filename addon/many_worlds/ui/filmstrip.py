@@ -6,6 +6,7 @@ import bpy
 from .. import posing
 from ..core.session import SESSION
 from ..thumbnails import THUMBNAILS
+from .fit import wrapped_labels
 
 FRAMES = 5
 SCALE = 3.0          # filmstrip pictures in the sidebar, in rows of the UI
@@ -44,7 +45,7 @@ def draw_filmstrip(layout, context):
     if view is None or world not in view.world_indices:
         return
     if context.scene.camera is None:
-        layout.label(text="Thumbnails need a scene camera", icon="OUTLINER_OB_CAMERA")
+        wrapped_labels(layout, context, "Thumbnails need a scene camera", "OUTLINER_OB_CAMERA")
         return
     box = layout.box()
     row = box.row()

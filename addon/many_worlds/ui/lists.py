@@ -62,16 +62,17 @@ class MWB_UL_worlds(bpy.types.UIList):
 
 
 class MWB_UL_boxes(bpy.types.UIList):
-    """One row per query box: enabled, positive/negative, bodies, whether the viewport shows its view."""
+    """One row per query box: enabled, positive/negative, its number and order, a clock with a time
+    window, whether the viewport shows its view. The panel names the active box's bodies below the
+    list (a row has no room for names at the sidebar's width)."""
 
     def draw_item(self, context, layout, data, item, icon, active_data, active_propname, index=0, flt_flag=0):
         row = layout.row(align=True)
         row.prop(item, "enabled", text="")
         row.prop(item, "negative", text="", icon="REMOVE" if item.negative else "ADD", toggle=True)
-        bodies = ", ".join(b.name for b in item.bodies) or "no bodies"
-        extras = ((" [t]" if item.use_time_window else "") + (" [swept]" if item.swept else "")
-                  + (f" [after {item.after_box + 1}]" if item.after_box >= 0 else ""))
-        row.label(text=f"Box {index + 1}: {bodies}{extras}")
+        row.label(text=f"Box {index + 1}" + (f" after {item.after_box + 1}" if item.after_box >= 0 else ""))
+        if item.use_time_window:
+            row.label(text="", icon="TIME")
         region_3d = getattr(context.space_data, "region_3d", None)
         area = context.area
         window_region = next((r for r in area.regions if r.type == "WINDOW"), None) if area else None

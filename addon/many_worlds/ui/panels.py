@@ -1,11 +1,14 @@
-"""Panels: sampling and worlds in the 3D View sidebar, variation ranges next to the Rigid Body
-settings in the Physics properties (where the user already sets the body up)."""
-import textwrap
+"""Panels. The 3D View sidebar follows the workflow, top to bottom: Sample, Boxes (and Seek),
+Worlds & Ranking, Refine, Bake; settings only an expert changes sit in collapsed subpanels. The
+variation ranges are a subpanel of Blender's Rigid Body panel in the Physics properties, where
+the user already sets the body up."""
+import os
 
 import bpy
 
-from .. import props, scene_boxes
+from .. import preview, props, scene_boxes
 from . import filmstrip, legend, lists
+from .fit import wrapped_labels
 from ..core import library_query
 from ..core.export_warnings import grouped_warning_lines
 from ..operators import sampling
@@ -27,66 +30,151 @@ class LibraryPanel(SidebarPanel):
         return SESSION.view is not None
 
 
-def wrapped_labels(layout, context, text, icon):
-    """A long message as lines that fit the region's width (a label is cut, not wrapped)."""
-    scale = context.preferences.view.ui_scale
-    # At most 8 pixels per character of the UI font at scale 1; the icon takes the first line's
-    # start. A popup of the panel is narrower than the region it opens over.
-    pixels = min(context.region.width, 230 * scale) if context.region else 230 * scale
-    width = max(16, int((pixels - 40 * scale) / (8 * scale)))
-    column = layout.column(align=True)
-    for k, line in enumerate(textwrap.wrap(text, width) or [""]):
-        column.label(text=line, icon=icon if k == 0 else "BLANK1")
+def cancel_button(layout):
+    layout.operator("mwb.cancel_sampling", text=f"Cancel {SESSION.run_label}", icon="CANCEL")
 
+
+# --- 1. Sample -----------------------------------------------------------------------------------
 
 class MWB_PT_sampling(SidebarPanel, bpy.types.Panel):
-    bl_label = "Sampling"
+    bl_label = "Sample"
     bl_idname = "MWB_PT_sampling"
 
     def draw(self, context):
         layout = self.layout
         settings = context.scene.mwb
-        layout.use_property_split = True
-        layout.prop(settings, "library_path")
+        layout.prop(settings, "library_path", text="")
         if not settings.library_path:
-            layout.label(text=props.resolved_library_path(context.scene) or "Save the .blend to choose a default",
-                         icon="FILE")
+            path = props.resolved_library_path(context.scene)
+            wrapped_labels(layout, context, f"Writes to {os.path.basename(path)}" if path
+                           else "Save the .blend to choose a library", "FILE")
         if len(settings.libraries) > 1:
             layout.template_list("MWB_UL_libraries", "", settings, "libraries", settings, "library_index", rows=2)
         interrupted = sampling.interrupted_run(context.scene)
         if interrupted is not None and SESSION.engine is None:
-            layout.label(text=f"Worlds {interrupted[0]} to {interrupted[1] - 1} were cancelled", icon="PAUSE")
+            wrapped_labels(layout, context, f"Worlds {interrupted[0]} to {interrupted[1] - 1} were cancelled",
+                           "PAUSE")
         col = layout.column(align=True)
         col.prop(settings, "world_count")
         col.prop(settings, "seed")
         col = layout.column(align=True)
         col.prop(settings, "stop_at_rest")
         col.prop(settings, "duration_s")
-        col.prop(settings, "alpha")
-        col = layout.column(align=True)
-        col.prop(settings, "position_error_mm")
-        col.prop(settings, "rotation_error_deg")
-        col.prop(settings, "threads")
         row = layout.row(align=True)
+        row.scale_y = 1.4
         if SESSION.engine is None:
             row.operator("mwb.sample", icon="PLAY")
             row.operator("mwb.check_scene", text="", icon="VIEWZOOM")
         else:
-            row.operator("mwb.cancel_sampling", text=f"Cancel {SESSION.run_label}", icon="CANCEL")
-        if SESSION.status:
+            cancel_button(row)
+        if SESSION.status and SESSION.run_label != "Seeking":
             wrapped_labels(layout, context, SESSION.status, "INFO")
-        if SESSION.last_error:
+        if SESSION.last_error and SESSION.run_label != "Seeking":
             wrapped_labels(layout, context, SESSION.last_error, "ERROR")
         if SESSION.export_warnings:
             # What the engine does not reproduce as Blender would, named by object and setting.
             box = layout.box()
-            box.label(text=f"{len(SESSION.export_warnings)} settings differ from Blender", icon="ERROR")
+            wrapped_labels(box, context, f"{len(SESSION.export_warnings)} settings differ from Blender", "ERROR")
             for line in grouped_warning_lines(SESSION.export_warnings):
                 wrapped_labels(box, context, line, "DOT")
 
 
+class MWB_PT_sampling_expert(SidebarPanel, bpy.types.Panel):
+    bl_label = "Expert Settings"
+    bl_idname = "MWB_PT_sampling_expert"
+    bl_parent_id = "MWB_PT_sampling"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    def draw(self, context):
+        layout = self.layout
+        settings = context.scene.mwb
+        layout.prop(settings, "alpha")
+        col = layout.column(align=True)
+        col.prop(settings, "position_error_mm")
+        col.prop(settings, "rotation_error_deg")
+        layout.prop(settings, "threads")
+
+
+# --- 2. Boxes and Seek ---------------------------------------------------------------------------
+
+class MWB_PT_query(SidebarPanel, bpy.types.Panel):
+    bl_label = "Boxes"
+    bl_idname = "MWB_PT_query"
+
+    def draw(self, context):
+        layout = self.layout
+        settings = context.scene.mwb
+        text = scene_boxes.match_text()
+        if text:
+            wrapped_labels(layout, context, text, "FILTER")
+        self.draw_new_box_bodies(context, layout)
+        row = layout.row(align=True)
+        row.operator("mwb.draw_box", text="Draw Box", icon="SELECT_SET").negative = False
+        row.operator("mwb.draw_box", text="Negative", icon="SELECT_SUBTRACT").negative = True
+        wrapped_labels(layout, context, "Or Ctrl+Alt+drag in the viewport (with Shift: negative)", "MOUSE_LMB_DRAG")
+        layout.template_list("MWB_UL_boxes", "", settings, "boxes", settings, "box_index", rows=3)
+        if 0 <= settings.box_index < len(settings.boxes):
+            self.draw_active_box(context, layout, settings.boxes[settings.box_index], settings.box_index)
+        if len(settings.boxes):
+            layout.operator("mwb.clear_boxes", icon="TRASH")
+
+    @staticmethod
+    def draw_new_box_bodies(context, layout):
+        """Which objects a box drawn now tests, and the selected ones it leaves out."""
+        names, left_out = scene_boxes.body_choice(context)
+        if not names:
+            wrapped_labels(layout, context, "No simulated rigid bodies to test", "ERROR")
+            return
+        wrapped_labels(layout, context, f"A new box tests {', '.join(names)}", "OBJECT_DATA")
+        if left_out:
+            wrapped_labels(layout, context, scene_boxes.left_out_text(left_out), "ERROR")
+
+    @staticmethod
+    def draw_active_box(context, layout, box, index):
+        bodies = ", ".join(b.name for b in box.bodies) or "no bodies"
+        wrapped_labels(layout, context, f"Box {index + 1} tests {bodies}", "SELECT_SET")
+        layout.operator("mwb.box_use_selected", icon="RESTRICT_SELECT_OFF").index = index
+        col = layout.column(align=True)
+        col.prop(box, "use_time_window")
+        sub = col.column(align=True)
+        sub.active = box.use_time_window
+        sub.prop(box, "time_start_s")
+        sub.prop(box, "time_end_s")
+        col = layout.column(align=True)
+        col.prop(box, "swept")
+        row = col.row(align=True)
+        row.label(text="Met After")
+        row.prop(box, "after", text="")
+
+
+class MWB_PT_seek(SidebarPanel, bpy.types.Panel):
+    bl_label = "Seek"
+    bl_idname = "MWB_PT_seek"
+    bl_parent_id = "MWB_PT_query"
+
+    def draw(self, context):
+        """Goal search: every enabled box, in its order, by refining worlds."""
+        layout = self.layout
+        settings = context.scene.mwb
+        col = layout.column(align=True)
+        col.prop(settings, "seek_want")
+        col.prop(settings, "seek_budget_worlds")
+        col.prop(settings, "seek_budget_s")
+        if SESSION.engine is None:
+            layout.operator("mwb.seek", icon="VIEWZOOM")
+        else:
+            cancel_button(layout)
+        if SESSION.run_label == "Seeking":
+            if SESSION.last_error:
+                wrapped_labels(layout, context, SESSION.last_error, "ERROR")
+            elif SESSION.status:
+                wrapped_labels(layout, context, SESSION.status, "INFO")
+
+
+# --- 3. Worlds & Ranking ---------------------------------------------------------------------------
+
 class MWB_PT_worlds(SidebarPanel, bpy.types.Panel):
-    bl_label = "Worlds"
+    bl_label = "Worlds & Ranking"
     bl_idname = "MWB_PT_worlds"
 
     def draw(self, context):
@@ -97,21 +185,77 @@ class MWB_PT_worlds(SidebarPanel, bpy.types.Panel):
             layout.operator("mwb.open_library", icon="FILE_FOLDER")
             return
         matching = int(view.matching.sum())
-        layout.label(text=f"{len(view.world_indices)} worlds, {matching} matching, "
-                          f"{len(view.library.rejections)} rejected")
-        layout.template_list("MWB_UL_worlds", "", settings, "worlds", settings, "world_list_index", rows=6)
+        wrapped_labels(layout, context, f"{len(view.world_indices)} worlds, {matching} matching, "
+                                        f"{len(view.library.rejections)} rejected", "WORLD")
+        self.draw_ranking_settings(context, layout, settings)
+        if settings.family_only:
+            # The selected world's root, ancestors and children, by generation.
+            layout.template_list("MWB_UL_worlds", "", settings, "worlds", settings, "world_list_index", rows=8)
+        else:
+            rank, world, value = lists.ranking_columns(layout.row())
+            rank.label(text="#")
+            world.label(text="World")
+            value.label(text=settings.bl_rna.properties["rank_metric"].enum_items[settings.rank_metric].name)
+            # Same collection and active index as the family list: clicking a row previews the world.
+            layout.template_list("MWB_UL_ranking", "", settings, "worlds", settings, "world_list_index", rows=8)
+        filmstrip.draw_filmstrip(layout, context)
         row = layout.row(align=True)
-        row.prop(settings, "family_only", toggle=True, icon="OUTLINER")
-        row.operator("mwb.go_to_parent", icon="TRIA_UP")
-        row = layout.row(align=True)
-        row.prop(settings, "show_paths")
-        row.prop(settings, "path_width")
-        layout.prop(settings, "path_bodies")
-        legend.draw_legend(layout, context)
-        row = layout.row(align=True)
-        row.operator("mwb.end_preview", icon="LOOP_BACK")
-        row.operator("mwb.bake_world", icon="KEYINGSET")
+        row.prop(settings, "family_only", text="Family", toggle=True, icon="OUTLINER")
+        row.operator("mwb.go_to_parent", text="Parent", icon="TRIA_UP")
+        self.draw_preview_state(context, layout)
 
+    @staticmethod
+    def draw_ranking_settings(context, layout, settings):
+        row = layout.row(align=True)
+        row.prop(settings, "rank_metric", text="")
+        row.prop(settings, "rank_descending", text="", icon="SORT_DESC" if settings.rank_descending else "SORT_ASC")
+        if settings.rank_metric == library_query.BOXES_MET:
+            return
+        row = layout.row(align=True)
+        row.prop(settings, "rank_combine", expand=True)
+        row = layout.row(align=True)
+        row.prop(settings, "rank_bodies", text="")
+        row.operator("mwb.rank_use_selected", text="", icon="RESTRICT_SELECT_OFF")
+        names = scene_boxes.ranking_body_names(context)
+        wrapped_labels(layout, context, "Of " + (", ".join(names) or "no bodies"), "BLANK1")
+
+    @staticmethod
+    def draw_preview_state(context, layout):
+        """Preview is a state: what it does to the scene, and the way out."""
+        state = preview.state_text(context.scene)
+        if not state:
+            return
+        box = layout.box()
+        conflict = preview.conflict(context.scene)
+        wrapped_labels(box, context, state, "ERROR" if conflict else "HIDE_OFF")
+        col = box.column(align=True)
+        col.operator("mwb.end_preview", icon="LOOP_BACK")
+        if conflict:
+            col.operator("mwb.keep_previewing", icon="PLAY")
+
+
+class MWB_PT_paths(SidebarPanel, bpy.types.Panel):
+    bl_label = "Paths"
+    bl_idname = "MWB_PT_paths"
+    bl_parent_id = "MWB_PT_worlds"
+
+    @classmethod
+    def poll(cls, context):
+        return SESSION.view is not None
+
+    def draw_header(self, context):
+        self.layout.prop(context.scene.mwb, "show_paths", text="")
+
+    def draw(self, context):
+        layout = self.layout
+        settings = context.scene.mwb
+        layout.active = settings.show_paths
+        layout.prop(settings, "path_width")
+        layout.prop(settings, "path_bodies", text="")
+        legend.draw_legend(layout, context)
+
+
+# --- 4. Refine ------------------------------------------------------------------------------------
 
 class MWB_PT_refine(LibraryPanel, bpy.types.Panel):
     bl_label = "Refine"
@@ -120,105 +264,65 @@ class MWB_PT_refine(LibraryPanel, bpy.types.Panel):
     def draw(self, context):
         layout = self.layout
         settings = context.scene.mwb
-        layout.use_property_split = True
         layout.prop(settings, "refine_count")
-        if SESSION.engine is None:
-            layout.operator("mwb.refine_box", icon="SELECT_SET")
-            world = settings.selected_world
-            layout.label(text=f"Objects selected in world {world}, then drag over the path to change"
-                         if world >= 0 else "Select a world and objects first", icon="MOUSE_LMB_DRAG")
-            col = layout.column(align=True)
-            col.operator("mwb.add_to_worlds", icon="ADD")
-            col.operator("mwb.remove_from_worlds", icon="REMOVE")
-            col.operator("mwb.update_in_worlds", icon="FILE_REFRESH")
-            col = layout.column(align=True)
-            col.label(text="New worlds of this one with the selected objects", icon="INFO")
-            col.label(text="from the start, without them (and deleted ones),")
-            col.label(text="or starting as they are now")
-        else:
-            layout.operator("mwb.cancel_sampling", text=f"Cancel {SESSION.run_label}", icon="CANCEL")
-            layout.label(text=SESSION.status, icon="INFO")
-
-
-class MWB_PT_query(SidebarPanel, bpy.types.Panel):
-    bl_label = "Query Boxes"
-    bl_idname = "MWB_PT_query"
-
-    def draw(self, context):
-        layout = self.layout
-        settings = context.scene.mwb
-        text = scene_boxes.match_text()
-        if text:
-            layout.label(text=text, icon="FILTER")
-        row = layout.row(align=True)
-        row.operator("mwb.draw_box", icon="SELECT_SET").negative = False
-        row.operator("mwb.draw_box", text="Negative", icon="SELECT_SUBTRACT").negative = True
-        layout.label(text="Ctrl+Alt+drag; with Shift: negative", icon="MOUSE_LMB_DRAG")
-        row = layout.row()
-        row.template_list("MWB_UL_boxes", "", settings, "boxes", settings, "box_index", rows=3)
-        row.operator("mwb.clear_boxes", text="", icon="TRASH")
-        if 0 <= settings.box_index < len(settings.boxes):
-            box = settings.boxes[settings.box_index]
-            col = layout.column(align=True)
-            row = col.row(align=True)
-            row.label(text="Bodies: " + (", ".join(b.name for b in box.bodies) or "none"))
-            row.operator("mwb.box_use_selected", text="", icon="RESTRICT_SELECT_OFF").index = settings.box_index
-            row = col.row(align=True)
-            row.prop(box, "use_time_window")
-            sub = row.row(align=True)
-            sub.active = box.use_time_window
-            sub.prop(box, "time_start_s")
-            sub.prop(box, "time_end_s")
-            row = col.row(align=True)
-            row.prop(box, "swept")
-            row.prop(box, "after")
-        self.draw_seek(context, layout)
-
-    @staticmethod
-    def draw_seek(context, layout):
-        """Goal search: every enabled box, in its order, by refining worlds."""
-        settings = context.scene.mwb
-        layout.separator()
+        if SESSION.engine is not None:
+            cancel_button(layout)
+            wrapped_labels(layout, context, SESSION.status, "INFO")
+            return
+        layout.operator("mwb.refine_box", icon="SELECT_SET")
+        world = settings.selected_world
+        wrapped_labels(layout, context, f"Select objects of world {world}, then drag over their paths where "
+                                        "they should change" if world >= 0 else "Select a world and objects first",
+                       "MOUSE_LMB_DRAG")
         col = layout.column(align=True)
-        col.prop(settings, "seek_want")
-        col.prop(settings, "seek_budget_worlds")
-        col.prop(settings, "seek_budget_s")
-        if SESSION.engine is None:
-            layout.operator("mwb.seek", icon="VIEWZOOM")
-        else:
-            layout.operator("mwb.cancel_sampling", text=f"Cancel {SESSION.run_label}", icon="CANCEL")
-        if SESSION.run_label == "Seeking":
-            if SESSION.last_error:
-                wrapped_labels(layout, context, SESSION.last_error, "ERROR")
-            elif SESSION.status:
-                wrapped_labels(layout, context, SESSION.status, "INFO")
+        col.operator("mwb.add_to_worlds", text="Add Selected", icon="ADD")
+        col.operator("mwb.remove_from_worlds", text="Remove Selected", icon="REMOVE")
+        col.operator("mwb.update_in_worlds", text="Update Selected", icon="FILE_REFRESH")
+        wrapped_labels(layout, context, "New worlds of this one: with the selected objects from the start, "
+                                        "without them (and deleted ones), or starting as they are now", "INFO")
 
 
-class MWB_PT_ranking(LibraryPanel, bpy.types.Panel):
-    bl_label = "Ranking"
-    bl_idname = "MWB_PT_ranking"
+# --- 5. Bake --------------------------------------------------------------------------------------
+
+class MWB_PT_bake(LibraryPanel, bpy.types.Panel):
+    bl_label = "Bake"
+    bl_idname = "MWB_PT_bake"
 
     def draw(self, context):
         layout = self.layout
-        settings = context.scene.mwb
-        row = layout.row(align=True)
-        row.prop(settings, "rank_metric", text="")
-        row.prop(settings, "rank_descending", text="", icon="SORT_DESC" if settings.rank_descending else "SORT_ASC")
-        if settings.rank_metric != library_query.BOXES_MET:
-            row = layout.row(align=True)
-            row.prop(settings, "rank_combine", expand=True)
-            row = layout.row(align=True)
-            row.prop(settings, "rank_bodies", text="")
-            row.operator("mwb.rank_use_selected", text="", icon="RESTRICT_SELECT_OFF")
-            if settings.rank_bodies == "LISTED":
-                layout.label(text=", ".join(b.name for b in settings.rank_body_names) or "no bodies")
-        rank, world, value = lists.ranking_columns(layout.row())
-        rank.label(text="#")
-        world.label(text="World")
-        value.label(text=settings.bl_rna.properties["rank_metric"].enum_items[settings.rank_metric].name)
-        # Same collection and active index as the Worlds list: clicking a row previews the world.
-        layout.template_list("MWB_UL_ranking", "", settings, "worlds", settings, "world_list_index", rows=8)
-        filmstrip.draw_filmstrip(layout, context)
+        world = context.scene.mwb.selected_world
+        wrapped_labels(layout, context, f"Keys world {world} onto its objects" if world >= 0
+                       else "Select a world to bake", "KEYINGSET")
+        row = layout.row()
+        row.scale_y = 1.4
+        row.operator("mwb.bake_world", icon="KEYINGSET")
+
+
+# --- Variation, in Physics > Rigid Body ----------------------------------------------------------
+
+VARIATION_ROWS = (
+    # (± property, min, max, what the range is around, its unit as the field shows it)
+    ("location_pm", "location_min", "location_max", "location"),
+    ("rotation_pm", "rotation_min", "rotation_max", "rotation"),
+    ("linear_velocity_pm", "linear_velocity_min", "linear_velocity_max", "velocity"),
+    ("angular_velocity_pm", "angular_velocity_min_deg", "angular_velocity_max_deg", "spin"),
+)
+
+
+def around_text(ob, quantity, unit_settings):
+    """What a range is added to: the object's current location and rotation (world, in the scene's
+    units), or its starting velocity (a rigid body starts at rest)."""
+    if quantity == "location":
+        if unit_settings.system == "NONE":
+            return "Around " + ", ".join(f"{v:.2f}" for v in ob.matrix_world.translation)
+        values = [bpy.utils.units.to_string(unit_settings.system, "LENGTH", v * unit_settings.scale_length,
+                                            precision=2) for v in ob.matrix_world.translation]
+        return "Around " + ", ".join(values)
+    if quantity == "rotation":
+        return "Around " + ", ".join(f"{v * props.DEG_PER_RAD:.0f}°" for v in ob.matrix_world.to_euler())
+    if quantity == "velocity":
+        return "Around rest (m/s)"
+    return "Around rest (°/s)"
 
 
 class MWB_PT_object_variation(bpy.types.Panel):
@@ -227,6 +331,9 @@ class MWB_PT_object_variation(bpy.types.Panel):
     bl_space_type = "PROPERTIES"
     bl_region_type = "WINDOW"
     bl_context = "physics"
+    bl_parent_id = "PHYSICS_PT_rigid_body"
+    # Before Blender's own subpanels (order 0): right under the body's type.
+    bl_order = -1
 
     @classmethod
     def poll(cls, context):
@@ -234,14 +341,21 @@ class MWB_PT_object_variation(bpy.types.Panel):
 
     def draw(self, context):
         layout = self.layout
-        v = context.object.mwb_variation
-        for low, high in (("location_min", "location_max"), ("rotation_min", "rotation_max"),
-                          ("linear_velocity_min", "linear_velocity_max"),
-                          ("angular_velocity_min", "angular_velocity_max")):
-            row = layout.row()
-            row.column().prop(v, low)
-            row.column().prop(v, high)
+        ob = context.object
+        v = ob.mwb_variation
+        layout.prop(v, "show_min_max")
+        units = context.scene.unit_settings
+        for plus_minus, low, high, quantity in VARIATION_ROWS:
+            col = layout.column(align=True)
+            col.label(text=v.bl_rna.properties[plus_minus].name)
+            wrapped_labels(col, context, around_text(ob, quantity, units), "BLANK1")
+            if v.show_min_max:
+                row = col.row(align=True)
+                row.column(align=True).prop(v, low, text="Min")
+                row.column(align=True).prop(v, high, text="Max")
+            else:
+                col.column(align=True).prop(v, plus_minus, text="")
 
 
-classes = (MWB_PT_sampling, MWB_PT_worlds, MWB_PT_refine, MWB_PT_query, MWB_PT_ranking,
-           MWB_PT_object_variation)
+classes = (MWB_PT_sampling, MWB_PT_sampling_expert, MWB_PT_query, MWB_PT_seek, MWB_PT_worlds, MWB_PT_paths,
+           MWB_PT_refine, MWB_PT_bake, MWB_PT_object_variation)

@@ -1,0 +1,289 @@
+"""Viewport test with the real UI under Xvfb: the sidebar reads in workflow order and no label is cut.
+
+Run by `tests/viewport/run.sh test_sidebar.py` (Blender started with --enable-event-simulate, the
+fixture of test_paths_drawn: a ground and three boxes, 24 sampled worlds). The sidebar is opened
+at its default width on the Many Worlds tab and the Physics properties show the variation panel.
+For each state a new user meets (library just opened with a passive object selected; boxes drawn
+and a world previewed; an object moved during the preview; the collapsed subpanels opened and the
+variation ranges as min/max), every panel of the add-on is drawn through a recording layout
+(tests/viewport/label_fit.py) and every label, field and button text is measured against the
+width the panel gives it. The test fails on any text that does not fit, names it, and keeps a
+full-window screenshot of each state in the output folder. It also checks the panel order, that
+expert settings start collapsed, that the panel says which objects a new box tests (and which
+selected objects it leaves out), and that the preview state and an edit during it are said.
+Exit code 0 = pass.
+"""
+import json
+import os
+import sys
+
+import bpy
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+from many_worlds import preview  # noqa: E402
+from many_worlds.core.session import SESSION  # noqa: E402
+from many_worlds.ui import lists, panels  # noqa: E402
+import label_fit  # noqa: E402
+from viewport_helpers import run_steps, viewport  # noqa: E402
+
+OUT_DIR = sys.argv[sys.argv.index("--") + 1]
+TICK_S = 0.3
+SIDEBAR_ORDER = ["Sample", "Expert Settings", "Boxes", "Seek", "Worlds & Ranking", "Paths", "Refine", "Bake"]
+
+# Per drawn panel: (panel label, its recording layout, the region it drew in).
+DRAWN = []
+
+
+class PanelProxy:
+    """The panel as its draw sees it, with the recording layout in place of the real one."""
+
+    def __init__(self, panel, layout):
+        object.__setattr__(self, "_panel", panel)
+        object.__setattr__(self, "layout", layout)
+
+    def __getattr__(self, name):
+        return getattr(self._panel, name)
+
+
+def recording_draw(draw, label):
+    # Blender passes a Python draw function as many arguments as it names: name them exactly.
+    def recorded(self, context):
+        rec = label_fit.Recording(self.layout, where=label)
+        DRAWN.append((label, rec, context.region))
+        draw(PanelProxy(self, rec), context)
+    return recorded
+
+
+def recording_draw_item(draw_item, where):
+    def recorded(self, context, layout, data, item, icon, active_data, active_propname, index=0, flt_flag=0):
+        rec = label_fit.record_list_row(layout, where)
+        if draw_item.__code__.co_argcount >= 10:
+            draw_item(self, context, rec, data, item, icon, active_data, active_propname, index, flt_flag)
+        else:
+            draw_item(self, context, rec, data, item, icon, active_data, active_propname, index)
+    return recorded
+
+
+def record_panels():
+    """Make every panel and list of the add-on draw through a recording layout."""
+    for cls in panels.classes:
+        cls.draw = recording_draw(cls.draw, cls.bl_label)
+    for cls in lists.classes:
+        cls.draw_item = recording_draw_item(cls.draw_item, cls.__name__)
+
+
+def open_expert_panels():
+    """Show the collapsed subpanels open, as after a click on their header: each is registered again
+    under a new id without DEFAULT_CLOSED (the sidebar keeps a panel's closed state by its id)."""
+    for cls in panels.classes:
+        if "DEFAULT_CLOSED" in getattr(cls, "bl_options", set()):
+            bpy.utils.unregister_class(cls)
+            opened = type(cls.__name__ + "_open", (cls,), {"bl_idname": cls.bl_idname + "_open",
+                                                          "bl_options": set(cls.bl_options) - {"DEFAULT_CLOSED"}})
+            bpy.utils.register_class(opened)
+
+
+def redraw_all():
+    """Draw every window now, recording what the panels draw."""
+    DRAWN.clear()
+    window = bpy.context.window_manager.windows[0]
+    for area in window.screen.areas:
+        area.tag_redraw()
+    with bpy.context.temp_override(window=window):
+        bpy.ops.wm.redraw_timer(type="DRAW_WIN_SWAP", iterations=1)
+
+
+def window_screenshot(name):
+    window = bpy.context.window_manager.windows[0]
+    path = os.path.join(OUT_DIR, name)
+    with bpy.context.temp_override(window=window, screen=window.screen):
+        bpy.ops.screen.screenshot(filepath=path, check_existing=False)
+    return path
+
+
+def save_rgb(rgb, name):
+    image = bpy.data.images.new(name, rgb.shape[1], rgb.shape[0])
+    image.pixels.foreach_set(np.concatenate([rgb, np.ones(rgb.shape[:2] + (1,), np.float32)], axis=-1).ravel())
+    image.filepath_raw = os.path.join(OUT_DIR, name)
+    image.file_format = "PNG"
+    image.save()
+    bpy.data.images.remove(image)
+
+
+def crop(name, out_name, region):
+    """Save the part of a window screenshot that a region covers; returns its RGB pixels."""
+    image = bpy.data.images.load(os.path.join(OUT_DIR, name))
+    width, height = image.size
+    rgba = np.array(image.pixels[:], dtype=np.float32).reshape(height, width, 4)
+    bpy.data.images.remove(image)
+    part = rgba[region.y:region.y + region.height, region.x:region.x + region.width, :3]
+    save_rgb(part, out_name)
+    return part
+
+
+def has_tabs(region):
+    """The sidebar shows category tabs (and gives them width) when panels of several categories poll."""
+    return region.type == "UI"
+
+
+def measure(state):
+    """Cut texts and the tightest text of the panels drawn in the last redraw."""
+    scale = bpy.context.preferences.view.ui_scale
+    cut, tightest, drawn, items = [], None, [], []
+    for label, rec, region in DRAWN:
+        width = label_fit.panel_width(region, scale, has_tabs(region))
+        drawn.append(label)
+        items += [(item.where, item.kind, item.text, round(item.needed(scale)), round(share))
+                  for item, share in rec.items_with_width(width, scale, []) if item.text]
+        # The header: its label after the collapse arrow, left of the drag handle.
+        header = label_fit.Recording(None, where=f"{label} (header)")
+        header._add("label", label, 2 * label_fit.ICON)
+        cut += label_fit.cut_items([rec, header], width, scale)
+        best = label_fit.widest([rec, header], width, scale)
+        if best and (tightest is None or best[3] - best[2] < tightest[3] - tightest[2]):
+            tightest = best
+    return {"state": state, "drawn": list(dict.fromkeys(drawn)), "cut": cut, "tightest": tightest,
+            "items": list(dict.fromkeys(items))}
+
+
+def texts(where):
+    return [item.text for label, rec, region in DRAWN if label == where
+            for item, _ in rec.items_with_width(1000, 1.0, [])]
+
+
+def show_many_worlds_tab(window, area):
+    """Switch the sidebar to the Many Worlds tab (a generator: the events are handled between
+    steps). Blender 4 lets a script set it; on 3.4, Ctrl+Wheel over the tabs steps through them
+    as a user would."""
+    sidebar = next(r for r in area.regions if r.type == "UI")
+    if hasattr(sidebar, "active_panel_category"):
+        sidebar.active_panel_category = "Many Worlds"
+        return
+    # Over the tabs, at the sidebar's right edge.
+    x, y = sidebar.x + sidebar.width - 8, sidebar.y + sidebar.height // 2
+    window.event_simulate(type="MOUSEMOVE", value="NOTHING", x=x, y=y)
+    yield
+    for _ in range(8):
+        redraw_all()
+        if any(label == "Sample" for label, _, _ in DRAWN):
+            return
+        window.event_simulate(type="WHEELDOWNMOUSE", value="PRESS", x=x, y=y, ctrl=True)
+        yield
+    raise AssertionError("the sidebar never showed the Many Worlds tab")
+
+
+def scroll(window, area, region_type="WINDOW", down=True, steps=30):
+    """Scroll a region of an editor to its end (a generator): the variation panel at the end of
+    the Rigid Body settings, or the lower panels of the sidebar."""
+    region = next(r for r in area.regions if r.type == region_type)
+    x, y = region.x + region.width // 3, region.y + region.height // 2
+    window.event_simulate(type="MOUSEMOVE", value="NOTHING", x=x, y=y)
+    for _ in range(steps):
+        window.event_simulate(type="WHEELDOWNMOUSE" if down else "WHEELUPMOUSE", value="PRESS", x=x, y=y)
+    yield
+
+
+def steps():
+    results = []
+    scene = bpy.context.scene
+    window, area, region = viewport()
+    assert SESSION.view is not None, "the library was not reopened on load"
+    assert "DEFAULT_CLOSED" in panels.MWB_PT_sampling_expert.bl_options, "expert settings start open"
+    record_panels()
+    properties = next(a for a in window.screen.areas if a.type == "PROPERTIES")
+    properties.spaces.active.context = "PHYSICS"
+    r3d = area.spaces.active.region_3d
+    r3d.view_location = (0.6, 0.0, 0.5)
+    r3d.view_distance = 4.0
+    area.spaces.active.show_region_ui = True
+    yield
+    yield from show_many_worlds_tab(window, area)
+    yield from scroll(window, properties)
+    sidebar = next(r for r in area.regions if r.type == "UI")
+    # A passive object in the selection: left out of a new box, and said so before drawing one.
+    for ob in bpy.data.objects:
+        ob.select_set(ob.name in ("Box0", "Ground"))
+    bpy.context.view_layer.objects.active = bpy.data.objects["Box0"]
+    yield
+    redraw_all()
+    results.append(measure("start"))
+    window_screenshot("start.png")
+    order = [label for label in results[-1]["drawn"] if label in SIDEBAR_ORDER]
+    assert order == [label for label in SIDEBAR_ORDER if label in order], order
+    assert "Expert Settings" not in results[-1]["drawn"], "expert settings are open by default"
+    boxes_text = " ".join(texts("Boxes"))
+    assert "A new box tests Box0" in boxes_text and "Ground" in boxes_text, boxes_text
+    assert "Many Worlds Variation" in results[-1]["drawn"], results[-1]["drawn"]
+
+    # Boxes drawn through the viewport, a world previewed from the ranking.
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        w, h = region.width, region.height
+        bpy.ops.mwb.add_box(rect=(0, 0, w * 0.6, h * 0.6))
+        bpy.ops.mwb.add_box(rect=(w * 0.5, h * 0.5, w, h), negative=True)
+    scene.mwb.boxes[1].use_time_window = True
+    scene.mwb.boxes[1].after = "0"
+    assert [b.name for b in scene.mwb.boxes[0].bodies] == ["Box0"], "the passive ground was put in a box"
+    bpy.ops.mwb.select_world(world=SESSION.view.world_indices[3])
+    scene.frame_set(20)
+    yield
+    redraw_all()
+    results.append(measure("boxes_and_preview"))
+    window_screenshot("boxes_and_preview.png")
+    # The sidebar alone, at its top, scrolled halfway and to its end, side by side (the README's picture).
+    top = crop("boxes_and_preview.png", "sidebar_top.png", sidebar)
+    yield from scroll(window, area, "UI", steps=14)
+    redraw_all()
+    window_screenshot("boxes_and_preview_ranking.png")
+    middle = crop("boxes_and_preview_ranking.png", "sidebar_middle.png", sidebar)
+    yield from scroll(window, area, "UI")
+    redraw_all()
+    window_screenshot("boxes_and_preview_end.png")
+    bottom = crop("boxes_and_preview_end.png", "sidebar_bottom.png", sidebar)
+    save_rgb(np.concatenate([top, middle, bottom], axis=1), "sidebar.png")
+    # Text is drawn, light on the panels' grey, and the scrolled half shows other panels.
+    assert (top.min(axis=-1) > 0.75).sum() > 2000 and (bottom.min(axis=-1) > 0.75).sum() > 2000
+    assert np.abs(top - bottom).mean() > 0.02, "the sidebar did not scroll"
+    yield from scroll(window, area, "UI", down=False)
+    worlds_text = " ".join(texts("Worlds & Ranking"))
+    assert f"Previewing world {scene.mwb.selected_world}" in worlds_text, worlds_text
+    assert "Of Box0" in worlds_text, "the ranking does not default to the boxes' objects"
+
+    # An edit during the preview: asked to end it, not reverted behind the user's back.
+    moved = bpy.data.objects["Box1"]
+    moved.location.x += 0.5
+    bpy.context.view_layer.update()
+    yield
+    redraw_all()
+    results.append(measure("edit_during_preview"))
+    window_screenshot("edit_during_preview.png")
+    worlds_text = " ".join(texts("Worlds & Ranking"))
+    assert "Box1 moved" in worlds_text and "End Preview" in worlds_text, worlds_text
+    position = moved.matrix_world.translation.x
+    scene.frame_set(25)
+    assert abs(moved.matrix_world.translation.x - position) < 1e-6, "the moved object was posed again"
+    bpy.ops.mwb.end_preview()
+
+    # The collapsed subpanels opened, the variation ranges as min and max.
+    open_expert_panels()
+    bpy.data.objects["Box0"].mwb_variation.show_min_max = True
+    yield
+    yield from scroll(window, properties)
+    redraw_all()
+    results.append(measure("expert_open"))
+    window_screenshot("expert_open.png")
+    assert "Expert Settings" in results[-1]["drawn"], results[-1]["drawn"]
+
+    scale = bpy.context.preferences.view.ui_scale
+    report = {"blender": bpy.app.version_string, "ui_scale": scale, "sidebar_width": sidebar.width,
+              "panel_width": label_fit.panel_width(sidebar, scale, True), "states": results}
+    with open(os.path.join(OUT_DIR, "result.json"), "w") as f:
+        json.dump(report, f, indent=1)
+    for result in results:
+        print(f"{result['state']}: tightest {result['tightest']}; cut: {result['cut']}")
+    cut = [(r["state"], *c) for r in results for c in r["cut"]]
+    assert not cut, f"text cut at the default sidebar width (state, panel, text, needed px, has px): {cut}"
+
+
+run_steps(steps, TICK_S)
