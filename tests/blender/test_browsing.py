@@ -96,6 +96,21 @@ def test_posing_a_world_for_a_picture_leaves_the_scene_as_it_was(sampled):
         assert np.allclose(np.array(ob.matrix_world), np.array(before[ob.name]))
 
 
+def test_posing_during_a_preview_is_not_taken_for_an_edit(sampled):
+    scene, view_layer = bpy.context.scene, bpy.context.view_layer
+    view = SESSION.view
+    assert bpy.ops.mwb.select_world(world=view.world_indices[0]) == {"FINISHED"}
+    previewed = {ob.name: ob.matrix_world.copy() for ob in sampled}
+    with posing.posed(scene, view_layer, view, view.world_indices[3], 0):
+        pass
+    from many_worlds import preview
+    preview.check_edits(scene)
+    assert preview.conflict(scene) == ""
+    for ob in sampled:
+        assert np.allclose(np.array(ob.matrix_world), np.array(previewed[ob.name]))
+    assert scene.rigidbody_world.enabled is False
+
+
 def test_filmstrip_frames_run_from_the_start_to_the_last_frame():
     assert posing.filmstrip_frames(100, 5) == [0, 25, 50, 74, 99]
     assert posing.filmstrip_frames(3, 5) == [0, 1, 2]
