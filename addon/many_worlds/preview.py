@@ -70,6 +70,12 @@ def _save(settings, saved, ob):
     return saved[ob.name]
 
 
+def own_matrix(scene, ob):
+    """The object's own transform (matrix_basis): from before the preview while it poses the object."""
+    item = _saved_items(scene.mwb).get(ob.name) if scene.mwb.previewing else None
+    return _saved_matrix(item) if item is not None and not item.restored else ob.matrix_basis
+
+
 def _saved_matrix(item):
     m = item.matrix_basis
     return Matrix([m[0:4], m[4:8], m[8:12], m[12:16]])

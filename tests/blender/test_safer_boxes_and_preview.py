@@ -132,3 +132,18 @@ def test_switching_the_rigid_body_world_on_during_preview_is_kept_when_it_ends(s
     bpy.ops.mwb.end_preview()
     # Switched off before the preview, on by the user during it: on.
     assert scene.rigidbody_world.enabled is True
+
+
+def test_the_variation_panel_reads_ranges_around_the_objects_own_place_during_preview(sampled):
+    from many_worlds.ui import panels
+    scene = bpy.context.scene
+    box = bpy.data.objects["Box0"]
+    own = panels.around_text(scene, box, "location")
+    own_location = box.matrix_world.translation.copy()
+    bpy.ops.mwb.select_world(world=1)
+    scene.frame_set(40)
+    # The world has moved the box (it fell), the ranges still read around where the user put it.
+    assert (box.matrix_world.translation - own_location).length > 0.1
+    assert panels.around_text(scene, box, "location") == own
+    bpy.ops.mwb.end_preview()
+    assert panels.around_text(scene, box, "location") == own

@@ -205,9 +205,10 @@ def steps():
     scene.mwb.boxes[0].enabled = True
     scene.mwb.rank_metric, scene.mwb.rank_descending = "path_length_m", True
 
-    # The query and ranking panels, opened as popups so they show whatever sidebar tab is active
+    # The Boxes and the Worlds & Ranking panels, opened as popups so they show whatever sidebar tab
+    # is active
     # (a drawing error prints a traceback, which run.sh fails on).
-    for panel in ("MWB_PT_query", "MWB_PT_ranking"):
+    for panel in ("MWB_PT_query", "MWB_PT_worlds"):
         simulate(window, region, "MOUSEMOVE", "NOTHING", 300, region.height - 80)
         yield
         with bpy.context.temp_override(window=window, area=area, region=region):

@@ -18,11 +18,11 @@ import os
 import sys
 
 import bpy
+import gpu
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
-from many_worlds import preview  # noqa: E402
 from many_worlds.core.session import SESSION  # noqa: E402
 from many_worlds.ui import lists, panels  # noqa: E402
 import label_fit  # noqa: E402
@@ -95,12 +95,61 @@ def redraw_all():
         bpy.ops.wm.redraw_timer(type="DRAW_WIN_SWAP", iterations=1)
 
 
+def region_pixels(window):
+    """[(region, RGB)] of every region of the window, read back from its framebuffer during one
+    redraw (each space's draw handlers run in their own regions)."""
+    captured, handles = [], []
+    for area in window.screen.areas:
+        space_type = type(area.spaces.active)
+        for region in area.regions:
+            if region.width < 2 or region.height < 2:
+                continue
+
+            def capture(region=region):
+                if bpy.context.region != region:
+                    return
+                buffer = gpu.state.active_framebuffer_get().read_color(
+                    0, 0, region.width, region.height, 4, 0, "FLOAT")
+                buffer.dimensions = region.width * region.height * 4
+                rgba = np.array(buffer, dtype=np.float32).reshape(region.height, region.width, 4)
+                captured.append((region, rgba[..., :3]))
+            try:
+                handle = space_type.draw_handler_add(capture, (), region.type, "POST_PIXEL")
+            except (TypeError, ValueError, AttributeError):
+                continue
+            handles.append((space_type, handle, region.type))
+    try:
+        redraw_all()
+    finally:
+        for space_type, handle, region_type in handles:
+            space_type.draw_handler_remove(handle, region_type)
+    return captured
+
+
 def window_screenshot(name):
+    """The whole window as the user sees it (saved as `name`), as RGB rows from the bottom.
+
+    Blender 4's screenshot operator saves black under Xvfb's software GL; the window is then put
+    together from its regions' framebuffers (main regions first, the overlapping sidebar and
+    toolbar over them).
+    """
     window = bpy.context.window_manager.windows[0]
     path = os.path.join(OUT_DIR, name)
     with bpy.context.temp_override(window=window, screen=window.screen):
         bpy.ops.screen.screenshot(filepath=path, check_existing=False)
-    return path
+    image = bpy.data.images.load(path)
+    width, height = image.size
+    rgb = np.array(image.pixels[:], dtype=np.float32).reshape(height, width, 4)[..., :3]
+    bpy.data.images.remove(image)
+    if rgb.max() > 0.05:
+        return rgb
+    rgb = np.zeros((window.height, window.width, 3), np.float32)
+    for region, pixels in sorted(region_pixels(window), key=lambda rp: rp[0].type in ("UI", "TOOLS")):
+        x, y = region.x - window.x, region.y - window.y
+        h, w = pixels.shape[:2]
+        rgb[y:y + h, x:x + w] = pixels[:max(0, rgb.shape[0] - y), :max(0, rgb.shape[1] - x)]
+    save_rgb(rgb, name)
+    return rgb
 
 
 def save_rgb(rgb, name):
@@ -112,13 +161,9 @@ def save_rgb(rgb, name):
     bpy.data.images.remove(image)
 
 
-def crop(name, out_name, region):
+def crop(rgb, out_name, region):
     """Save the part of a window screenshot that a region covers; returns its RGB pixels."""
-    image = bpy.data.images.load(os.path.join(OUT_DIR, name))
-    width, height = image.size
-    rgba = np.array(image.pixels[:], dtype=np.float32).reshape(height, width, 4)
-    bpy.data.images.remove(image)
-    part = rgba[region.y:region.y + region.height, region.x:region.x + region.width, :3]
+    part = rgb[region.y:region.y + region.height, region.x:region.x + region.width]
     save_rgb(part, out_name)
     return part
 
@@ -230,17 +275,15 @@ def steps():
     yield
     redraw_all()
     results.append(measure("boxes_and_preview"))
-    window_screenshot("boxes_and_preview.png")
+    shot = window_screenshot("boxes_and_preview.png")
     # The sidebar alone, at its top, scrolled halfway and to its end, side by side (the README's picture).
-    top = crop("boxes_and_preview.png", "sidebar_top.png", sidebar)
+    top = crop(shot, "sidebar_top.png", sidebar)
     yield from scroll(window, area, "UI", steps=14)
     redraw_all()
-    window_screenshot("boxes_and_preview_ranking.png")
-    middle = crop("boxes_and_preview_ranking.png", "sidebar_middle.png", sidebar)
+    middle = crop(window_screenshot("boxes_and_preview_ranking.png"), "sidebar_middle.png", sidebar)
     yield from scroll(window, area, "UI")
     redraw_all()
-    window_screenshot("boxes_and_preview_end.png")
-    bottom = crop("boxes_and_preview_end.png", "sidebar_bottom.png", sidebar)
+    bottom = crop(window_screenshot("boxes_and_preview_end.png"), "sidebar_bottom.png", sidebar)
     save_rgb(np.concatenate([top, middle, bottom], axis=1), "sidebar.png")
     # Text is drawn, light on the panels' grey, and the scrolled half shows other panels.
     assert (top.min(axis=-1) > 0.75).sum() > 2000 and (bottom.min(axis=-1) > 0.75).sum() > 2000
@@ -258,6 +301,10 @@ def steps():
     redraw_all()
     results.append(measure("edit_during_preview"))
     window_screenshot("edit_during_preview.png")
+    # The question also pops up where the mouse is (a screenshot for the record).
+    yield
+    redraw_all()
+    window_screenshot("edit_during_preview_asked.png")
     worlds_text = " ".join(texts("Worlds & Ranking"))
     assert "Box1 moved" in worlds_text and "End Preview" in worlds_text, worlds_text
     position = moved.matrix_world.translation.x

@@ -309,17 +309,19 @@ VARIATION_ROWS = (
 )
 
 
-def around_text(ob, quantity, unit_settings):
-    """What a range is added to: the object's current location and rotation (world, in the scene's
-    units), or its starting velocity (a rigid body starts at rest)."""
+def around_text(scene, ob, quantity):
+    """What a range is added to: the object's own location and rotation (not a previewed world's
+    pose; in the scene's units), or its starting velocity (a rigid body starts at rest)."""
+    units = scene.unit_settings
+    matrix = preview.own_matrix(scene, ob)
     if quantity == "location":
-        if unit_settings.system == "NONE":
-            return "Around " + ", ".join(f"{v:.2f}" for v in ob.matrix_world.translation)
-        values = [bpy.utils.units.to_string(unit_settings.system, "LENGTH", v * unit_settings.scale_length,
-                                            precision=2) for v in ob.matrix_world.translation]
+        if units.system == "NONE":
+            return "Around " + ", ".join(f"{v:.2f}" for v in matrix.translation)
+        values = [bpy.utils.units.to_string(units.system, "LENGTH", v * units.scale_length, precision=2)
+                  for v in matrix.translation]
         return "Around " + ", ".join(values)
     if quantity == "rotation":
-        return "Around " + ", ".join(f"{v * props.DEG_PER_RAD:.0f}°" for v in ob.matrix_world.to_euler())
+        return "Around " + ", ".join(f"{v * props.DEG_PER_RAD:.0f}°" for v in matrix.to_euler())
     if quantity == "velocity":
         return "Around rest (m/s)"
     return "Around rest (°/s)"
@@ -344,11 +346,10 @@ class MWB_PT_object_variation(bpy.types.Panel):
         ob = context.object
         v = ob.mwb_variation
         layout.prop(v, "show_min_max")
-        units = context.scene.unit_settings
         for plus_minus, low, high, quantity in VARIATION_ROWS:
             col = layout.column(align=True)
             col.label(text=v.bl_rna.properties[plus_minus].name)
-            wrapped_labels(col, context, around_text(ob, quantity, units), "BLANK1")
+            wrapped_labels(col, context, around_text(context.scene, ob, quantity), "BLANK1")
             if v.show_min_max:
                 row = col.row(align=True)
                 row.column(align=True).prop(v, low, text="Min")
