@@ -1,0 +1,42 @@
+#!/bin/sh
+# Unpacks the headers the release modules are built against into DIR, from Debian's packages:
+#   DIR/python3.11  (libpython3.11-dev of Debian 12: Blender 4.2-4.5 official builds, Debian's 3.4)
+#   DIR/python3.13  (libpython3.13-dev of Debian 13: Debian's Blender 4.3, Blender 5.1 and later)
+#   DIR/pybind11    (pybind11-dev of Debian 13, which supports both)
+# A private apt configuration (under DIR) lists Debian 12 and 13 from the mirror this machine uses;
+# the system's apt setup is left alone.
+#   native/release/fetch_python_headers.sh DIR
+set -eu
+DIR=$1
+[ -f "$DIR/python3.11/Python.h" ] && [ -f "$DIR/python3.13/Python.h" ] && [ -d "$DIR/pybind11/pybind11" ] && exit 0
+. "$(dirname "$0")/debian_chroot.sh"
+
+APT=$DIR/apt
+mkdir -p "$APT/sources" "$APT/lists/partial" "$APT/cache/archives/partial" "$DIR/debs" "$DIR/unpacked"
+mirror=$(debian_mirror)
+cat > "$APT/sources/debian.sources" <<EOF
+Types: deb
+URIs: ${mirror:-http://deb.debian.org/debian}
+Suites: bookworm trixie
+Components: main
+Signed-By: /usr/share/keyrings/debian-archive-keyring.gpg
+EOF
+apt_private() {
+    apt-get -o Dir::Etc::SourceList=/dev/null -o Dir::Etc::SourceParts="$APT/sources" \
+        -o Dir::State::Lists="$APT/lists" -o Dir::Cache="$APT/cache" -o Dir::State::status=/dev/null \
+        -o APT::Sandbox::User="$(id -un)" -o Debug::NoLocking=true -qq "$@"
+}
+apt_private update
+(cd "$DIR/debs" && apt_private download libpython3.11-dev/bookworm libpython3.13-dev/trixie pybind11-dev/trixie)
+for deb in "$DIR"/debs/*.deb; do
+    dpkg-deb -x "$deb" "$DIR/unpacked"
+done
+# pyconfig.h sits in the multiarch folder; Python.h includes it by name, so one folder holds both.
+for v in 3.11 3.13; do
+    rm -rf "$DIR/python$v"
+    cp -r "$DIR/unpacked/usr/include/python$v" "$DIR/python$v"
+    cp "$DIR/unpacked/usr/include/x86_64-linux-gnu/python$v/pyconfig.h" "$DIR/python$v/pyconfig.h"
+done
+rm -rf "$DIR/pybind11"
+mkdir -p "$DIR/pybind11"
+cp -r "$DIR/unpacked/usr/include/pybind11" "$DIR/pybind11/pybind11"
