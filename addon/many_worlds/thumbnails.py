@@ -65,12 +65,15 @@ def view_3d():
 
 def draw_posed(scene, view_layer, space, region, world, frame, size):
     """RGBA float (height, width, 4), rows bottom first: the scene from its camera with `world`
-    posed at recorded `frame`, drawn as the 3D view's shading draws it, without overlays."""
+    posed at recorded `frame`, drawn as the 3D view's shading draws it (solid when the view
+    renders with a render engine, which would be too slow for a list), without overlays."""
     width, height = size
     camera = scene.camera
     offscreen = gpu.types.GPUOffScreen(width, height)
-    overlays = space.overlay.show_overlays
+    overlays, shading = space.overlay.show_overlays, space.shading.type
     space.overlay.show_overlays = False
+    if shading == "RENDERED":
+        space.shading.type = "SOLID"
     try:
         with posing.posed(scene, view_layer, SESSION.view, world, frame):
             projection = camera.calc_matrix_camera(view_layer.depsgraph, x=width, y=height,
@@ -82,6 +85,7 @@ def draw_posed(scene, view_layer, space, region, world, frame, size):
                 buffer = gpu.state.active_framebuffer_get().read_color(0, 0, width, height, 4, 0, "FLOAT")
     finally:
         space.overlay.show_overlays = overlays
+        space.shading.type = shading
         offscreen.free()
     buffer.dimensions = width * height * 4
     rgba = np.array(buffer, dtype=np.float32).reshape(height, width, 4)
@@ -156,8 +160,11 @@ class ThumbnailCache:
             del self._wanted[key]
             if world in SESSION.view.world_indices:
                 self._make(scene, target, key, world, frame)
-        for area in (bpy.context.screen.areas if bpy.context.screen else []):
-            area.tag_redraw()
+        wm = bpy.context.window_manager
+        for window in (wm.windows if wm else []):
+            for area in window.screen.areas:
+                if area.type == "VIEW_3D":
+                    area.tag_redraw()
         if self._wanted:
             return TICK_S
         self._timer_running = False

@@ -110,7 +110,6 @@ def read_png(path):
 
 
 def png_array(path):
-    import numpy as np
     width, height, rows = read_png(path)
     return np.frombuffer(b"".join(rows), dtype=np.uint8).reshape(height, width, 3)
 
@@ -129,7 +128,6 @@ def legend_height(sheet):
 
 
 def colour_pixels(image, colour, tolerance=8):
-    import numpy as np
     return int((np.abs(image.astype(int) - np.array(colour)).max(axis=-1) <= tolerance).sum())
 
 
@@ -156,7 +154,6 @@ def test_preview_draws_one_labelled_tile_per_world_with_objects_in_their_colours
 
 def scene_pixels(tile):
     """Pixels of a tile that are neither paths nor near black: the rendered scene."""
-    import numpy as np
     near_path = np.zeros(tile.shape[:2], dtype=bool)
     for colour in path_colours():
         near_path |= np.abs(tile.astype(int) - np.array(colour)).max(axis=-1) <= 8
@@ -183,14 +180,14 @@ def test_preview_draws_the_rendered_scene_behind_the_paths(library, tmp_path, en
 
 def test_preview_tiles_show_each_world_at_its_last_frame(library, tmp_path):
     """The objects stand where each world left them: tiles of different worlds differ beyond their paths."""
-    import numpy as np
     out = tmp_path / "sheet.png"
     cli("preview", str(library), "--worlds", "0,0,1,1", "--out", str(out), "--tile-width", "480", "--engine",
         "workbench", "--objects", "Marble")
     same_a, same_b, other_a, _ = tiles_of(png_array(out), 480)
     assert np.array_equal(same_a, same_b)
     marble = path_colours()[3]
-    off_paths = (np.abs(same_a.astype(int) - marble).max(axis=-1) > 40) & (np.abs(other_a.astype(int) - marble).max(axis=-1) > 40)
+    off_paths = ((np.abs(same_a.astype(int) - marble).max(axis=-1) > 40)
+                 & (np.abs(other_a.astype(int) - marble).max(axis=-1) > 40))
     moved = (np.abs(same_a.astype(int) - other_a.astype(int)).max(axis=-1) > 30) & off_paths
     assert moved.sum() > 60, moved.sum()
 

@@ -4,10 +4,11 @@ Each object's paths have its own colour (core.palette; the panel's legend names 
 worlds are drawn bright, the others faint and greyed (and, with Family of Selected World on, every
 world outside that family). While a world is selected, the other paths are dimmed and the selected
 world's paths are drawn last without depth test, so neither other paths nor the scene's geometry
-hide them: a cyan band twice as wide with the objects' colours along its middle. A body is drawn only in the worlds it exists in (bodies can be added
-to and removed from worlds). Batches are cached and rebuilt only when the library's data or
-match state (LibraryView.version), the chosen bodies or the selected world change; per-world line
-segments are cached too, so a new world costs only its own arrays.
+hide them: a cyan band twice as wide with the objects' colours along its middle. A body is drawn
+only in the worlds it exists in (bodies can be added to and removed from worlds). Batches are
+cached and rebuilt only when the library's data or match state (LibraryView.version), the chosen
+bodies or the selected world change; per-world line segments are cached too, so a new world
+costs only its own arrays.
 """
 import bpy
 import gpu

@@ -8,7 +8,8 @@ from ..core.session import SESSION
 from ..thumbnails import THUMBNAILS
 from .fit import wrapped_labels
 
-FRAMES = 5
+FRAMES = 6
+SIDEBAR_COLUMNS = 3  # the sidebar is narrow: the filmstrip folds into rows of three
 SCALE = 3.0          # filmstrip pictures in the sidebar, in rows of the UI
 POPUP_SCALE = 7.0    # and in the popup
 POPUP_FRAME_PIXELS = 160
@@ -23,11 +24,11 @@ def row_icon(context, world):
     return {"icon_value": icon} if icon else {"icon": "TIME"}
 
 
-def draw_frames(layout, context, world, scale):
-    """The world's filmstrip: FRAMES pictures in a row, each with its time."""
+def draw_frames(layout, context, world, scale, columns=FRAMES):
+    """The world's filmstrip: FRAMES pictures, `columns` to a row, each with its time."""
     view = SESSION.view
     record_hz = float(view.library.world_info(world).record_hz)
-    grid = layout.grid_flow(row_major=True, columns=FRAMES, even_columns=True, align=True)
+    grid = layout.grid_flow(row_major=True, columns=columns, even_columns=True, align=True)
     for frame in posing.filmstrip_frames(view.library.frame_count(world), FRAMES):
         cell = grid.column(align=True)
         icon = THUMBNAILS.icon(context.scene, world, frame)
@@ -51,7 +52,7 @@ def draw_filmstrip(layout, context):
     row = box.row()
     row.label(text=f"World {world}", icon="RENDER_ANIMATION")
     row.operator("mwb.show_filmstrip", text="", icon="FULLSCREEN_ENTER").world = world
-    draw_frames(box, context, world, SCALE)
+    draw_frames(box, context, world, SCALE, SIDEBAR_COLUMNS)
 
 
 class MWB_OT_show_filmstrip(bpy.types.Operator):

@@ -1,6 +1,6 @@
-"""The legend of the path colours in the panel: one row per drawn object, its colour as a swatch
-icon (a panel cannot draw a colour by itself; preview icons made of one colour can), and how
-rejected worlds look."""
+"""The legend of the path colours in the panel: each drawn object's name beside a swatch of its
+colour (a panel cannot draw a colour by itself; a preview icon made of one colour can), two to a
+row, and how the worlds the boxes reject look."""
 import bpy
 import bpy.utils.previews
 
