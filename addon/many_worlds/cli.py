@@ -1,6 +1,10 @@
 """Headless command line: sample, merge, inspect, query, rank, bake and preview libraries.
 
     blender -b FILE.blend --python-exit-code 1 --python addon/many_worlds/cli.py -- COMMAND [options]
+    blender -c many_worlds COMMAND [options]          (the installed extension, Blender 4.2+)
+
+With `-c` no .blend is open: `sample FILE.blend` opens it, and the other commands that read the
+scene take `--blend FILE.blend`.
 
 Commands (run `... -- help` for the options):
     sample   sample worlds of the open .blend into a library (the engine runs as a child process)
@@ -462,6 +466,7 @@ def build_parser():
     parser = Parser(prog="many_worlds", description=__doc__.split("\n\n")[0])
     commands = parser.add_subparsers(dest="command", parser_class=Parser)
     p = commands.add_parser("sample", help="sample worlds of the open .blend")
+    p.add_argument("blend", nargs="?", help="the .blend to open first (default: the open one)")
     p.add_argument("--worlds", help="N (worlds 0..N-1) or A:B (worlds A..B-1); default: the scene's world count")
     p.add_argument("--seeds", help="A:B, the same as --worlds A:B")
     p.add_argument("--out", required=True, help="library file (.mwb); an existing one of the same run grows")
@@ -477,10 +482,12 @@ def build_parser():
     p.add_argument("--json", action="store_true")
     p = commands.add_parser("query", help="worlds matching boxes in the camera view")
     p.add_argument("library")
+    p.add_argument("--blend", help="the .blend to open first (default: the open one)")
     p.add_argument("--json", action="store_true")
     add_box_options(p, "objects the last box applies to (default: every simulated object)")
     p = commands.add_parser("rank", help="worlds sorted by a metric")
     p.add_argument("library")
+    p.add_argument("--blend", help="the .blend to open first (default: the open one)")
     p.add_argument("--metric", required=True, help=", ".join(METRICS))
     p.add_argument("--combine", choices=("sum", "max"), default="sum")
     p.add_argument("--desc", action="store_true", help="largest first")
@@ -490,6 +497,7 @@ def build_parser():
     add_box_options(p)
     p = commands.add_parser("seek", help="refine worlds until some meet every box")
     p.add_argument("library")
+    p.add_argument("--blend", help="the .blend to open first (default: the open one)")
     p.add_argument("--want", type=int, default=1, help="worlds meeting every box to find (default: 1)")
     p.add_argument("--budget", type=int, required=True, help="most worlds to make")
     p.add_argument("--budget-s", type=float, help="most seconds to run (default: no limit)")
@@ -499,10 +507,12 @@ def build_parser():
     add_box_options(p, "objects the last box applies to (default: every simulated object)")
     p = commands.add_parser("bake", help="bake one world to keyframes into a new .blend")
     p.add_argument("library")
+    p.add_argument("--blend", help="the .blend to open first (default: the open one)")
     p.add_argument("--world", type=int, required=True)
     p.add_argument("--out", required=True)
     p = commands.add_parser("preview", help="contact sheet PNG of worlds: scene, paths and legend")
     p.add_argument("library")
+    p.add_argument("--blend", help="the .blend to open first (default: the open one)")
     p.add_argument("--worlds", required=True, help="comma-separated world numbers")
     p.add_argument("--out", required=True)
     p.add_argument("--camera", default="Camera")
@@ -526,6 +536,17 @@ def ensure_registered():
         sys.modules[__package__].register()
 
 
+def open_blend(args):
+    """Opens the .blend a command names; one is needed when Blender was started without a file."""
+    blend = getattr(args, "blend", None)
+    if blend is None:
+        return
+    import bpy
+    if not os.path.isfile(blend):
+        raise CliError(f"{blend}: no such .blend file")
+    bpy.ops.wm.open_mainfile(filepath=os.path.abspath(blend))
+
+
 def main(argv):
     parser = build_parser()
     try:
@@ -533,6 +554,7 @@ def main(argv):
         if args.command in (None, "help"):
             parser.print_help()
             return 0 if args.command == "help" else 2
+        open_blend(args)
         if args.command in ("sample", "bake"):
             ensure_registered()
         return COMMANDS[args.command](args)

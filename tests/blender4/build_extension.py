@@ -1,6 +1,7 @@
-"""Builds the Blender 4.2+ extension zip of the add-on for linux-x64.
+"""Builds the Blender 4.2+ extension zip of the add-on for linux-x64, and the add-on zip for 3.x.
 
     python3 tests/blender4/build_extension.py [--addon addon/many_worlds] [--out build/extension]
+        [--binaries build-release/dist] [--legacy]
 
 Blender's extension docs prescribe Python wheels for compiled Python modules: Blender installs the
 wheels that match its own Python and platform into its extensions' site-packages when the
@@ -10,8 +11,14 @@ official 4.2-4.5 builds, 3.13 for Debian's 4.3) goes into its own wheel of a pac
 hands `from . import _native` the wheel's module. The engine executable (bin/mwb-engine) is not a
 Python module and stays where the add-on looks for it.
 
+With --binaries, the engine and modules come from a release build (native/release/build_release.sh:
+bin/mwb-engine, modules/_native*.so and the libgomp.so.1 they load, which goes into each wheel
+beside the module) instead of the checkout's own build.
+
 Writes OUT/many_worlds-VERSION-linux_x64.zip (Blender's name for a per-platform build) and prints
-its path. Plain Python 3.11+, no Blender needed; `blender -c extension validate` checks the result.
+its path. --legacy writes OUT/many_worlds-VERSION-linux_x64-addon.zip instead: the package folder
+with the modules beside the code, for Preferences > Add-ons > Install in Blender 3.x and 4.0-4.1.
+Plain Python 3.11+, no Blender needed; `blender -c extension validate` checks the extension.
 """
 import argparse
 import base64
@@ -25,6 +32,7 @@ import zipfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 PLATFORM = "linux-x64"
+ENGINE = "bin/mwb-engine"
 WHEEL_PACKAGE = "many_worlds_native"
 NATIVE_RE = re.compile(r"^_native\.cpython-(\d)(\d+)-x86_64-linux-gnu\.so$")
 # Fixed timestamps make the zip and wheels depend on their contents only.
@@ -51,14 +59,19 @@ def record_line(name, data):
     return f"{name},sha256={digest},{len(data)}"
 
 
-def make_wheel(so_path, version, python_tag):
-    """One wheel holding the module at many_worlds_native/_native...so; returns (filename, bytes)."""
+def read(path):
+    with open(path, "rb") as f:
+        return f.read()
+
+
+def make_wheel(so_path, version, python_tag, companions=()):
+    """One wheel holding the module at many_worlds_native/_native...so, and the shared libraries it
+    loads from its own folder; returns (filename, bytes)."""
     dist_info = f"{WHEEL_PACKAGE}-{version}.dist-info"
-    with open(so_path, "rb") as f:
-        so_data = f.read()
     files = [
         (f"{WHEEL_PACKAGE}/__init__.py", b'"""The native module of the Many-Worlds Browser add-on."""\n'),
-        (f"{WHEEL_PACKAGE}/{os.path.basename(so_path)}", so_data),
+        (f"{WHEEL_PACKAGE}/{os.path.basename(so_path)}", read(so_path)),
+    ] + [(f"{WHEEL_PACKAGE}/{os.path.basename(p)}", read(p)) for p in companions] + [
         (f"{dist_info}/METADATA",
          f"Metadata-Version: 2.1\nName: {WHEEL_PACKAGE}\nVersion: {version}\n"
          "Summary: Native module of the Many-Worlds Browser Blender extension\n".encode()),
@@ -86,58 +99,101 @@ def manifest_with_wheels(text, wheel_paths):
 
 
 def package_files(addon_dir):
-    """(relative path, absolute path) of everything that ships, except compiled Python modules."""
+    """(relative path, absolute path) of everything that ships, except compiled code."""
     for folder, dirs, files in os.walk(addon_dir):
         dirs[:] = sorted(d for d in dirs if d != "__pycache__")
         for name in sorted(files):
-            if name.endswith((".pyc", ".so")):
+            rel = os.path.relpath(os.path.join(folder, name), addon_dir).replace(os.sep, "/")
+            if name.endswith((".pyc", ".so")) or ".so." in name or rel == ENGINE:
                 continue
-            path = os.path.join(folder, name)
-            yield os.path.relpath(path, addon_dir).replace(os.sep, "/"), path
+            yield rel, os.path.join(folder, name)
 
 
-def build(addon_dir, out_dir):
-    with open(os.path.join(addon_dir, "blender_manifest.toml"), "rb") as f:
-        manifest_text = f.read().decode()
-    manifest = tomllib.loads(manifest_text)
-    if PLATFORM not in manifest.get("platforms", [PLATFORM]):
-        raise SystemExit(f"build_extension: the manifest's platforms do not include {PLATFORM}")
-    modules = sorted(n for n in os.listdir(addon_dir) if NATIVE_RE.match(n))
+def binaries(addon_dir, release_dir):
+    """(modules, companions, engine): the compiled modules, the shared libraries they load from
+    their own folder, and the engine; from a release build or else from the checkout's build."""
+    module_dir = os.path.join(release_dir, "modules") if release_dir else addon_dir
+    engine = os.path.join(release_dir, "bin", "mwb-engine") if release_dir else os.path.join(addon_dir, ENGINE)
+    names = sorted(os.listdir(module_dir)) if os.path.isdir(module_dir) else []
+    modules = [os.path.join(module_dir, n) for n in names if NATIVE_RE.match(n)]
+    companions = [os.path.join(module_dir, n) for n in names if n.startswith("lib") and ".so" in n]
     if not modules:
-        raise SystemExit(f"build_extension: no _native.cpython-3XY-x86_64-linux-gnu.so in {addon_dir}: build first")
-    engine = os.path.join(addon_dir, "bin", "mwb-engine")
+        raise SystemExit(f"build_extension: no _native.cpython-3XY-x86_64-linux-gnu.so in {module_dir}: build first")
     if not os.access(engine, os.X_OK):
         raise SystemExit(f"build_extension: {engine} is missing: build first")
+    return modules, companions, engine
 
+
+def read_manifest(addon_dir):
+    with open(os.path.join(addon_dir, "blender_manifest.toml"), "rb") as f:
+        text = f.read().decode()
+    manifest = tomllib.loads(text)
+    if PLATFORM not in manifest.get("platforms", [PLATFORM]):
+        raise SystemExit(f"build_extension: the manifest's platforms do not include {PLATFORM}")
+    return text, manifest
+
+
+def write_zip(zip_path, entries):
+    """entries: (name, bytes, executable); written to a side file first, so a zip is never partial."""
+    with zipfile.ZipFile(zip_path + ".part", "w") as archive:
+        for name, data, executable in entries:
+            zip_entry(archive, name, data, executable)
+    os.replace(zip_path + ".part", zip_path)
+
+
+def build(addon_dir, out_dir, release_dir=None):
+    manifest_text, manifest = read_manifest(addon_dir)
+    modules, companions, engine = binaries(addon_dir, release_dir)
     wheels = []
-    for name in modules:
-        major, minor = NATIVE_RE.match(name).groups()
-        wheels.append(make_wheel(os.path.join(addon_dir, name), manifest["version"], f"cp{major}{minor}"))
+    for path in modules:
+        major, minor = NATIVE_RE.match(os.path.basename(path)).groups()
+        wheels.append(make_wheel(path, manifest["version"], f"cp{major}{minor}", companions))
     wheel_paths = [f"wheels/{filename}" for filename, _ in wheels]
 
+    entries = []
+    for rel, path in package_files(addon_dir):
+        if rel == "blender_manifest.toml":
+            entries.append((rel, manifest_with_wheels(manifest_text, wheel_paths).encode(), False))
+        else:
+            entries.append((rel, read(path), os.access(path, os.X_OK) and not rel.endswith(".py")))
+    entries.append((ENGINE, read(engine), True))
+    entries.append(("_native.py", SHIM.format(package=WHEEL_PACKAGE).encode(), False))
+    entries += [(rel, data, False) for (_, data), rel in zip(wheels, wheel_paths)]
     os.makedirs(out_dir, exist_ok=True)
     zip_path = os.path.join(out_dir, f"{manifest['id']}-{manifest['version']}-{PLATFORM.replace('-', '_')}.zip")
-    with zipfile.ZipFile(zip_path + ".part", "w") as archive:
-        for rel, path in package_files(addon_dir):
-            if rel == "blender_manifest.toml":
-                data = manifest_with_wheels(manifest_text, wheel_paths).encode()
-            else:
-                with open(path, "rb") as f:
-                    data = f.read()
-            zip_entry(archive, rel, data, executable=os.access(path, os.X_OK) and not rel.endswith(".py"))
-        zip_entry(archive, "_native.py", SHIM.format(package=WHEEL_PACKAGE).encode())
-        for (_, data), rel in zip(wheels, wheel_paths):
-            zip_entry(archive, rel, data)
-    os.replace(zip_path + ".part", zip_path)
+    write_zip(zip_path, entries)
     return zip_path, wheel_paths
+
+
+def build_legacy(addon_dir, out_dir, release_dir=None):
+    """The add-on zip of Blender 3.x and 4.0-4.1: one top folder, the modules beside the code (each
+    Python imports the one tagged for it) and no extension manifest."""
+    _, manifest = read_manifest(addon_dir)
+    modules, companions, engine = binaries(addon_dir, release_dir)
+    top = manifest["id"]
+    entries = [(f"{top}/{rel}", read(path), os.access(path, os.X_OK) and not rel.endswith(".py"))
+               for rel, path in package_files(addon_dir) if rel != "blender_manifest.toml"]
+    entries.append((f"{top}/{ENGINE}", read(engine), True))
+    entries += [(f"{top}/{os.path.basename(p)}", read(p), False) for p in modules + companions]
+    os.makedirs(out_dir, exist_ok=True)
+    zip_path = os.path.join(out_dir, f"{top}-{manifest['version']}-{PLATFORM.replace('-', '_')}-addon.zip")
+    write_zip(zip_path, entries)
+    return zip_path
 
 
 def main(argv):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--addon", default=os.path.join(ROOT, "addon", "many_worlds"))
     parser.add_argument("--out", default=os.path.join(ROOT, "build", "extension"))
+    parser.add_argument("--binaries", help="a release build's dist folder (bin/, modules/)")
+    parser.add_argument("--legacy", action="store_true", help="the add-on zip for Blender 3.x and 4.0-4.1")
     args = parser.parse_args(argv)
-    zip_path, wheel_paths = build(os.path.abspath(args.addon), os.path.abspath(args.out))
+    addon, out = os.path.abspath(args.addon), os.path.abspath(args.out)
+    release = os.path.abspath(args.binaries) if args.binaries else None
+    if args.legacy:
+        print(build_legacy(addon, out, release))
+        return 0
+    zip_path, wheel_paths = build(addon, out, release)
     for path in wheel_paths:
         print(f"build_extension: {path}", file=sys.stderr)
     print(zip_path)
