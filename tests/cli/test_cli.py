@@ -160,10 +160,15 @@ def scene_pixels(tile):
     return tile[~near_path & (tile.max(axis=-1) > 40)]
 
 
-@pytest.mark.parametrize("env,renderer", [({}, "Workbench"), ({"GALLIUM_DRIVER": "none"}, "Cycles")],
-                         ids=["gl", "no-gl"])
+# No GL context: Mesa's drivers refused, and no EGL vendor (a GPU's own library) to fall back on.
+NO_GL = {"GALLIUM_DRIVER": "none", "LIBGL_ALWAYS_SOFTWARE": "1", "__GLX_VENDOR_LIBRARY_NAME": "mesa",
+         "__EGL_VENDOR_LIBRARY_DIRS": "/nonexistent", "DISPLAY": ""}
+
+
+@pytest.mark.parametrize("env,renderer", [({}, "Workbench"), (NO_GL, "Cycles")], ids=["gl", "no-gl"])
 def test_preview_draws_the_rendered_scene_behind_the_paths(library, tmp_path, env, renderer):
-    """Without a GL context (GALLIUM_DRIVER=none makes Mesa's fail) the scene is rendered with Cycles."""
+    """Where Blender can make a GL context (here Mesa's, even without a display) the scene is
+    rendered with Workbench; without one, with Cycles."""
     out = tmp_path / "sheet.png"
     result = cli("preview", str(library), "--worlds", "0,1,2,3", "--out", str(out), "--tile-width", "240", env=env)
     assert f"many_worlds: rendering the scene with {renderer} (" in result.stderr, result.stderr[-800:]
