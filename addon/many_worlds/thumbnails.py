@@ -104,6 +104,7 @@ class ThumbnailCache:
         self.made = 0              # thumbnails made since the add-on was registered
         self.seconds = 0.0         # time spent making them (posing, drawing, reading back)
         self._tick_function = self._tick   # one bound method, so the timer can be found again
+        self._failed = False       # a draw failed: ask for no more until the cache is emptied
 
     @staticmethod
     def key(world, frame):
@@ -124,7 +125,7 @@ class ThumbnailCache:
     def icon(self, scene, world, frame=None):
         """icon_id of the thumbnail of `world` at recorded `frame` (default: its last frame), or 0
         while it is being made (then it is asked for) or when there can be none."""
-        if not self._valid(scene) or world not in SESSION.view.world_indices:
+        if self._failed or not self._valid(scene) or world not in SESSION.view.world_indices:
             return 0
         if frame is None:
             frame = posing.last_frame(SESSION.view.library, world)
@@ -150,6 +151,16 @@ class ThumbnailCache:
         return len(self._wanted)
 
     def _tick(self):
+        try:
+            return self._make_some()
+        except Exception:
+            # Said once (the traceback is printed); the list goes on without thumbnails.
+            self._failed = True
+            self._wanted.clear()
+            self._timer_running = False
+            raise
+
+    def _make_some(self):
         target = view_3d()
         scene = bpy.context.scene
         if target is None or not self._valid(scene):
@@ -191,6 +202,7 @@ class ThumbnailCache:
             bpy.utils.previews.remove(self._previews)
             self._previews = None
         self._signature = None
+        self._failed = False
 
     def unregister(self):
         self.clear()
