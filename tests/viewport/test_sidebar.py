@@ -11,6 +11,7 @@ width the panel gives it. The test fails on any text that does not fit, names it
 full-window screenshot of each state in the output folder. It also checks the panel order, that
 expert settings start collapsed, that the panel says which objects a new box tests (and which
 selected objects it leaves out), and that the preview state and an edit during it are said.
+The sidebar at its top, halfway and at its end is kept as sidebar.png (the README's picture).
 Exit code 0 = pass.
 """
 import json

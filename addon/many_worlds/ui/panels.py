@@ -334,8 +334,6 @@ class MWB_PT_object_variation(bpy.types.Panel):
     bl_region_type = "WINDOW"
     bl_context = "physics"
     bl_parent_id = "PHYSICS_PT_rigid_body"
-    # Before Blender's own subpanels (order 0): right under the body's type.
-    bl_order = -1
 
     @classmethod
     def poll(cls, context):
