@@ -168,7 +168,7 @@ def steps():
     assert THUMBNAILS.made == made and THUMBNAILS.pending() == len(keep), (THUMBNAILS.pending(), len(keep))
     assert asking_s < 1.5 * cached_s + 0.05, RESULTS
     yield from wait_for_thumbnails()
-    assert THUMBNAILS.made == 2 * made
+    assert THUMBNAILS.made == made + len(keep)
     shown = [w for w in ranked if last_frame_pixels(w) is not None]
     RESULTS["rows_with_thumbnails"] = len(shown)
     assert 6 <= len(shown) <= 12, ("the visible rows (and only they) get thumbnails", shown)
@@ -221,6 +221,16 @@ def steps():
         yield
     window_screenshot("legend.png")
     save_rgb("sidebar.png", pixels)
+    # The list's rows, now in view, show the thumbnails: drawn with none made yet they show
+    # hourglasses, and the sidebar changes there once they are made (8 icons of 16 pixels).
+    THUMBNAILS.clear()
+    waiting = region_pixels(area, "UI")
+    assert THUMBNAILS.pending() > 0
+    yield from wait_for_thumbnails()
+    shown = region_pixels(area, "UI")
+    save_rgb("sidebar_waiting.png", waiting)
+    RESULTS["sidebar_pixels_changed"] = int((np.abs(shown - waiting).max(axis=-1) > 0.05).sum())
+    assert RESULTS["sidebar_pixels_changed"] > 400, RESULTS
     RESULTS["legend_swatch_pixels"] = found
     # A swatch per box (three objects in three colours), none in a colour no object has.
     assert all(found[k] > 30 for k in range(3)) and found[3] < 5, found
