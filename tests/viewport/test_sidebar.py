@@ -31,6 +31,9 @@ from viewport_helpers import run_steps, viewport  # noqa: E402
 
 OUT_DIR = sys.argv[sys.argv.index("--") + 1]
 TICK_S = 0.3
+# Wheel steps that bring the Physics tab's Rigid Body settings, with the variation subpanel inside
+# them, to the top of the Properties editor.
+PROPERTIES_SCROLL_STEPS = 6
 SIDEBAR_ORDER = ["Sample", "Expert Settings", "Boxes", "Seek", "Worlds & Ranking", "Paths", "Refine", "Bake"]
 
 # Per drawn panel: (panel label, its recording layout, the region it drew in).
@@ -246,7 +249,7 @@ def steps():
     area.spaces.active.show_region_ui = True
     yield
     yield from show_many_worlds_tab(window, area)
-    yield from scroll(window, properties)
+    yield from scroll(window, properties, steps=PROPERTIES_SCROLL_STEPS)
     sidebar = next(r for r in area.regions if r.type == "UI")
     # A passive object in the selection: left out of a new box, and said so before drawing one.
     for ob in bpy.data.objects:
@@ -317,7 +320,7 @@ def steps():
     open_expert_panels()
     bpy.data.objects["Box0"].mwb_variation.show_min_max = True
     yield
-    yield from scroll(window, properties)
+    yield from scroll(window, properties, steps=PROPERTIES_SCROLL_STEPS)
     redraw_all()
     results.append(measure("expert_open"))
     window_screenshot("expert_open.png")

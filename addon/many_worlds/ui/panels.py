@@ -1,7 +1,7 @@
 """Panels. The 3D View sidebar follows the workflow, top to bottom: Sample, Boxes (and Seek),
 Worlds & Ranking, Refine, Bake; settings only an expert changes sit in collapsed subpanels. The
-variation ranges are a subpanel of Blender's Rigid Body panel in the Physics properties, where
-the user already sets the body up."""
+variation ranges are a subpanel of Blender's Rigid Body Settings in the Physics properties, right
+under the mass and the Dynamic and Animated switches, where the user already sets the body up."""
 import os
 
 import bpy
@@ -333,7 +333,7 @@ class MWB_PT_object_variation(bpy.types.Panel):
     bl_space_type = "PROPERTIES"
     bl_region_type = "WINDOW"
     bl_context = "physics"
-    bl_parent_id = "PHYSICS_PT_rigid_body"
+    bl_parent_id = "PHYSICS_PT_rigid_body_settings"
 
     @classmethod
     def poll(cls, context):
