@@ -15,10 +15,11 @@ import gpu
 import numpy as np
 
 from . import posing
+from .core import contact_sheet
 from .core.session import SESSION
 
 IMAGE_WIDTH = 160      # pixels; the height follows the render's aspect
-ICON_PIXELS = 32       # the square icon a list row shows: the middle of the image
+ICON_PIXELS = 32       # the square icon a list row shows: the part of the image around the objects
 BUDGET_S = 0.05        # drawing time one timer tick may spend (at least one thumbnail a tick)
 TICK_S = 0.02
 
@@ -42,13 +43,35 @@ def image_size(scene):
     return IMAGE_WIDTH, max(8, int(round(IMAGE_WIDTH * aspect)))
 
 
-def icon_pixels(rgba):
-    """The middle square of an image (height, width, 4), resampled to ICON_PIXELS."""
+def icon_pixels(rgba, square=None):
+    """A square of an image (height, width, 4) resampled to ICON_PIXELS: `square` (left, bottom,
+    side) in pixels, rows bottom first, or the middle of the image."""
     height, width = rgba.shape[:2]
-    side = min(height, width)
-    top, left = (height - side) // 2, (width - side) // 2
+    if square is None:
+        side = min(height, width)
+        square = ((width - side) // 2, (height - side) // 2, side)
+    left, bottom, side = square
     index = (np.arange(ICON_PIXELS) * side / ICON_PIXELS).astype(int)
-    return rgba[top + index][:, left + index]
+    return rgba[bottom + index][:, left + index]
+
+
+def focus_square(points, view_matrix, projection, size):
+    """(left, bottom, side): the square of the image around the world points (n, 3) the camera
+    sees, with a margin, or None when it sees none. A row's icon is this square, so the objects,
+    which are what differs between worlds, fill the few pixels it has."""
+    width, height = size
+    pixels, visible = contact_sheet.project(np.asarray(points, dtype=float), view_matrix, projection, size)
+    x, y = pixels[:, 0], height - pixels[:, 1]
+    inside = visible & (x >= 0) & (x < width) & (y >= 0) & (y < height)
+    if not inside.any():
+        return None
+    x, y = x[inside], y[inside]
+    limit = min(width, height)
+    # Origins only are known: the margin leaves room for the objects around them.
+    side = int(min(limit, max(limit // 3, max(np.ptp(x), np.ptp(y)) + limit // 4)))
+    left = int(np.clip((x.min() + x.max() - side) / 2, 0, width - side))
+    bottom = int(np.clip((y.min() + y.max() - side) / 2, 0, height - side))
+    return left, bottom, side
 
 
 def view_3d():
@@ -64,7 +87,8 @@ def view_3d():
 
 
 def draw_posed(scene, view_layer, space, region, world, frame, size):
-    """RGBA float (height, width, 4), rows bottom first: the scene from its camera with `world`
+    """(RGBA float (height, width, 4) rows bottom first, view matrix, projection matrix): the
+    scene from its camera with `world`
     posed at recorded `frame`, drawn as the 3D view's shading draws it (solid when the view
     renders with a render engine, which would be too slow for a list), without overlays."""
     width, height = size
@@ -79,7 +103,8 @@ def draw_posed(scene, view_layer, space, region, world, frame, size):
             projection = camera.calc_matrix_camera(view_layer.depsgraph, x=width, y=height,
                                                    scale_x=scene.render.pixel_aspect_x,
                                                    scale_y=scene.render.pixel_aspect_y)
-            offscreen.draw_view3d(scene, view_layer, space, region, camera.matrix_world.inverted(), projection,
+            view_matrix = camera.matrix_world.inverted()
+            offscreen.draw_view3d(scene, view_layer, space, region, view_matrix, projection,
                                   do_color_management=True)
             with offscreen.bind():
                 buffer = gpu.state.active_framebuffer_get().read_color(0, 0, width, height, 4, 0, "FLOAT")
@@ -90,7 +115,7 @@ def draw_posed(scene, view_layer, space, region, world, frame, size):
     buffer.dimensions = width * height * 4
     rgba = np.array(buffer, dtype=np.float32).reshape(height, width, 4)
     rgba[..., 3] = 1.0
-    return rgba
+    return rgba, np.array(view_matrix), np.array(projection)
 
 
 class ThumbnailCache:
@@ -138,14 +163,15 @@ class ThumbnailCache:
             bpy.app.timers.register(self._tick_function, first_interval=TICK_S)
         return 0
 
-    def pixels(self, world, frame):
-        """The made image as RGBA float (height, width, 4), or None."""
+    def pixels(self, world, frame, icon=False):
+        """The made image (or with `icon`, the row's icon) as RGBA float (height, width, 4), or None."""
         key = self.key(world, frame)
         if self._previews is None or key not in self._previews:
             return None
         preview = self._previews[key]
-        width, height = preview.image_size
-        return np.array(preview.image_pixels_float[:], dtype=np.float32).reshape(height, width, 4)
+        width, height = preview.icon_size if icon else preview.image_size
+        values = preview.icon_pixels_float if icon else preview.image_pixels_float
+        return np.array(values[:], dtype=np.float32).reshape(height, width, 4)
 
     def pending(self):
         return len(self._wanted)
@@ -185,14 +211,17 @@ class ThumbnailCache:
         window, space, region = target
         size = image_size(scene)
         began = time.perf_counter()
-        rgba = draw_posed(scene, window.view_layer, space, region, world, frame, size)
+        rgba, view_matrix, projection = draw_posed(scene, window.view_layer, space, region, world, frame, size)
+        view = SESSION.view
+        pose = posing.world_pose(view.library, world, frame, view.simulated_bodies())
+        square = focus_square([location for location, _ in pose.values()], view_matrix, projection, size)
         if self._previews is None:
             self._previews = bpy.utils.previews.new()
         preview = self._previews.new(key)
         preview.image_size = size
         preview.image_pixels_float = rgba.ravel().tolist()
         preview.icon_size = (ICON_PIXELS, ICON_PIXELS)
-        preview.icon_pixels_float = icon_pixels(rgba).ravel().tolist()
+        preview.icon_pixels_float = icon_pixels(rgba, square).ravel().tolist()
         self.seconds += time.perf_counter() - began
         self.made += 1
 

@@ -183,6 +183,14 @@ def steps():
     RESULTS["pixels_differing"] = [a, b, int(differ.sum())]
     save_rgb(f"thumbnail_world_{a}.png", pictures[a])
     save_rgb(f"thumbnail_world_{b}.png", pictures[b])
+    # The rows' icons: the part of the picture around the boxes, so they differ as much as the
+    # boxes' places do (at 32 pixels, the whole picture would show the boxes as a few dots).
+    icons = {w: THUMBNAILS.pixels(w, posing.last_frame(view.library, w), icon=True) for w in (a, b)}
+    save_rgb(f"icon_world_{a}.png", np.kron(icons[a], np.ones((4, 4, 1))))
+    save_rgb(f"icon_world_{b}.png", np.kron(icons[b], np.ones((4, 4, 1))))
+    icon_differ = np.abs(icons[a] - icons[b])[..., :3].max(axis=-1) > 0.1
+    RESULTS["icon_pixels_differing"] = int(icon_differ.sum())
+    assert icon_differ.mean() > differ.mean(), RESULTS
     assert differ.sum() > 20, RESULTS
     # --- the filmstrip of the selected world --------------------------------------------------
     world = ranked[0]
