@@ -88,6 +88,10 @@ ExternalProject_Add(ode_from_source
     --disable-shared --enable-static --with-pic --disable-demos
   BUILD_COMMAND $(MAKE)
   INSTALL_COMMAND $(MAKE) install
+  # ODE's and libccd's calls of the C library's sin, cos, atan2, ... go to our portable
+  # functions (common/PortableMath), whose results do not change with the glibc version.
+  COMMAND ${CMAKE_OBJCOPY} --redefine-syms=${CMAKE_CURRENT_LIST_DIR}/portable-math.syms ${_ode_lib}
+  COMMAND ${CMAKE_OBJCOPY} --redefine-syms=${CMAKE_CURRENT_LIST_DIR}/portable-math.syms ${_ccd_lib}
   BUILD_BYPRODUCTS ${_ode_lib}
   LOG_CONFIGURE ON
   LOG_BUILD ON
@@ -105,6 +109,8 @@ set_target_properties(mwb_ode PROPERTIES
   IMPORTED_LOCATION ${_ode_lib}
   INTERFACE_INCLUDE_DIRECTORIES ${MWB_ODE_INSTALL_DIR}/include
   INTERFACE_COMPILE_DEFINITIONS "dIDEDOUBLE;MWB_ODE_PER_THREAD_RANDOM"
-  INTERFACE_LINK_LIBRARIES "mwb_ccd;Threads::Threads")
+  INTERFACE_LINK_LIBRARIES "mwb_ccd;mwb_portable_math;Threads::Threads")
 add_dependencies(mwb_ode ode_from_source)
-set(MWB_ODE_BUILD "ODE 0.16.2 + libccd 2.1 from Debian source, per-thread random, ${_ode_flags}")
+set(MWB_ODE_BUILD "ODE 0.16.2 + libccd 2.1 (Debian source), per-thread random, portable math, ${_ode_flags}")
+# A changed symbol list renames again.
+ExternalProject_Add_StepDependencies(ode_from_source install ${CMAKE_CURRENT_LIST_DIR}/portable-math.syms)

@@ -1,8 +1,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <ode/ode.h>
 
 #include "SceneFixtures.h"
+#include "common/PortableMath.h"
 #include "scene/SceneJson.h"
 #include "sim/CompiledScene.h"
 #include "sim/OdeRandom.h"
@@ -175,6 +177,24 @@ TEST(Simulation, QuickstepDrawsFromThePerWorldRandomState) {
     ASSERT_EQ(w.status, WorldStatus::Ok);
     EXPECT_GT(ode_random_calls_on_this_thread() - before, 1000u);
 }
+
+#ifdef MWB_ODE_PER_THREAD_RANDOM
+TEST(Simulation, OdeComputesRotationsWithThePortableFunctions) {
+    // Our ODE build calls mwb::portable's sin and cos, not the C library's (whose last bits vary
+    // between versions). Find angles where the two differ, then check ODE agrees with ours.
+    int differing = 0;
+    for (double angle = 0.001; angle < 50 && differing < 20; angle += 0.0137) {
+        if (portable::cos(angle / 2) == std::cos(angle / 2) && portable::sin(angle / 2) == std::sin(angle / 2))
+            continue;
+        ++differing;
+        dQuaternion q;
+        dQFromAxisAndAngle(q, 0, 0, 1, angle);
+        EXPECT_EQ(q[0], portable::cos(angle / 2)) << angle;
+        EXPECT_EQ(q[3], portable::sin(angle / 2)) << angle;
+    }
+    EXPECT_GT(differing, 0) << "no angle found where the C library and the portable functions differ";
+}
+#endif
 
 TEST(Simulation, InvalidSceneIsAnErrorNamingTheBody) {
     Scene scene = fixtures::ball_on_plane();

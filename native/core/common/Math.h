@@ -3,6 +3,8 @@
 #include <array>
 #include <cmath>
 
+#include "common/PortableMath.h"
+
 namespace mwb {
 
 using Vec3 = std::array<double, 3>;
@@ -36,8 +38,8 @@ inline Vec3 quat_rotate(const Quat& q, const Vec3& v) {
 }
 /// Rotation of `angle_rad` about the unit `axis`.
 inline Quat quat_from_axis_angle(const Vec3& axis, double angle_rad) {
-    double s = std::sin(angle_rad / 2);
-    return {std::cos(angle_rad / 2), axis[0] * s, axis[1] * s, axis[2] * s};
+    double s = portable::sin(angle_rad / 2);
+    return {portable::cos(angle_rad / 2), axis[0] * s, axis[1] * s, axis[2] * s};
 }
 /// Blender's default XYZ Euler order: R = Rz * Ry * Rx.
 inline Quat quat_from_euler_xyz(const Vec3& euler_rad) {
@@ -69,7 +71,7 @@ inline Quat quat_from_axes(const Vec3& x, const Vec3& y, const Vec3& z) {
 
 inline double quat_angle_between(const Quat& a, const Quat& b) {
     double d = std::fabs(a[0] * b[0] + a[1] * b[1] + a[2] * b[2] + a[3] * b[3]);
-    return 2.0 * std::acos(d > 1.0 ? 1.0 : d);
+    return 2.0 * portable::acos(d > 1.0 ? 1.0 : d);
 }
 
 }  // namespace mwb

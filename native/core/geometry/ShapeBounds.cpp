@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/PortableMath.h"
+
 namespace mwb {
 
 double shape_bounding_radius(const Shape& shape) {
@@ -11,7 +13,7 @@ double shape_bounding_radius(const Shape& shape) {
         case ShapeType::Sphere: return shape.radius_m;
         case ShapeType::Capsule: return std::max(shape.radius_m, shape.height_m / 2);
         case ShapeType::Cylinder:
-        case ShapeType::Cone: return std::hypot(shape.radius_m, shape.height_m / 2);
+        case ShapeType::Cone: return portable::hypot(shape.radius_m, shape.height_m / 2);
         case ShapeType::ConvexHull:
         case ShapeType::Mesh: {
             double r = 0;

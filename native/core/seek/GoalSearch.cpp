@@ -8,6 +8,7 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "common/PortableMath.h"
 #include "geometry/ShapeBounds.h"
 #include "library/LibraryReader.h"
 #include "library/LibraryWriter.h"
@@ -255,7 +256,7 @@ private:
         std::vector<double> weights;
         double total = 0;
         for (size_t k : open) {
-            weights.push_back(std::pow(0.5, std::fabs(static_cast<double>(k) - std::max(0.0, target))));
+            weights.push_back(portable::pow(0.5, std::fabs(static_cast<double>(k) - std::max(0.0, target))));
             total += weights.back();
         }
         double pick = random_.uniform01() * total;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "common/PortableMath.h"
 #include "geometry/ConvexHull.h"
 #include "geometry/MassProperties.h"
 #include "scene/SceneJson.h"
@@ -46,7 +47,7 @@ std::vector<double> cone_points(double radius, double height) {
     std::vector<double> points{0, 0, height / 2};
     for (int i = 0; i < kConeSegments; ++i) {
         const double a = 2 * kPi * i / kConeSegments;
-        points.insert(points.end(), {radius * std::cos(a), radius * std::sin(a), -height / 2});
+        points.insert(points.end(), {radius * portable::cos(a), radius * portable::sin(a), -height / 2});
     }
     return points;
 }
@@ -152,7 +153,7 @@ double part_bounding_radius(const CollisionPart& part) {
         case PartKind::Box: return center + norm(part.half_extents_m);
         case PartKind::Sphere: return center + part.radius_m;
         case PartKind::Capsule: return center + part.radius_m + part.length_m / 2;
-        case PartKind::Cylinder: return center + std::hypot(part.radius_m, part.length_m / 2);
+        case PartKind::Cylinder: return center + portable::hypot(part.radius_m, part.length_m / 2);
         case PartKind::Convex:
         case PartKind::TriangleMesh: {
             const auto& xyz = part.kind == PartKind::Convex ? part.convex_points : part.mesh_vertices;

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "common/PortableMath.h"
+
 namespace mwb {
 namespace {
 
@@ -20,12 +22,12 @@ Vec3 perpendicular(const Vec3& axis) {
 
 Vec3 ImpactPerturber::sample_lobe_direction(const Vec3& axis, PortableRandom& random) const {
     // Inverse-CDF sampling of p(θ) ∝ cos^n θ sin θ on the hemisphere around the axis.
-    const double cos_theta = std::pow(random.uniform01(), 1.0 / (lobe_exponent_ + 1.0));
+    const double cos_theta = portable::pow(random.uniform01(), 1.0 / (lobe_exponent_ + 1.0));
     const double phi = 2.0 * kPi * random.uniform01();
     const double sin_theta = std::sqrt(std::fmax(0.0, 1.0 - cos_theta * cos_theta));
     const Vec3 t1 = perpendicular(axis);
     const Vec3 t2 = cross(axis, t1);
-    return add(add(scale(t1, sin_theta * std::cos(phi)), scale(t2, sin_theta * std::sin(phi))),
+    return add(add(scale(t1, sin_theta * portable::cos(phi)), scale(t2, sin_theta * portable::sin(phi))),
                scale(axis, cos_theta));
 }
 

@@ -5,6 +5,8 @@
 #include <string>
 #include <utility>
 
+#include "common/PortableMath.h"
+
 namespace mwb {
 namespace {
 
@@ -28,8 +30,8 @@ ImpactResponse::ImpactResponse(const CompiledScene& compiled, OdeWorld& world, c
     angular_threshold_ = compiled.parameters().impact_angular_factor * compiled.physics_dt_s() * kPi;
     // Bullet's damping model, as Blender uses it: v *= (1 - d)^dt every step.
     for (const Body& body : compiled.scene().bodies) {
-        linear_damping_factor_.push_back(std::pow(1.0 - body.linear_damping, compiled.physics_dt_s()));
-        angular_damping_factor_.push_back(std::pow(1.0 - body.angular_damping, compiled.physics_dt_s()));
+        linear_damping_factor_.push_back(portable::pow(1.0 - body.linear_damping, compiled.physics_dt_s()));
+        angular_damping_factor_.push_back(portable::pow(1.0 - body.angular_damping, compiled.physics_dt_s()));
     }
     previous_linear_.resize(n);
     previous_angular_.resize(n);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/PortableMath.h"
+
 namespace mwb {
 
 Transform interpolate_pose(const Transform& a, const Transform& b, double u) {
@@ -31,7 +33,7 @@ Vec3 angular_velocity_between(const Quat& q0, const Quat& q1, double dt_s) {
     const Vec3 v{d[1], d[2], d[3]};
     const double s = norm(v);
     if (s < 1e-15) return {0, 0, 0};
-    const double angle = 2 * std::atan2(s, d[0]);
+    const double angle = 2 * portable::atan2(s, d[0]);
     return scale(v, angle / (s * dt_s));
 }
 
