@@ -18,6 +18,7 @@
 #include "EngineOptions.h"
 #include "SupervisedSampler.h"
 #include "WorldWorker.h"
+#include "common/BuildInfo.h"
 #include "library/ByteIO.h"
 #include "library/LibraryReader.h"
 #include "library/LibraryFormat.h"
@@ -47,7 +48,7 @@ std::string own_executable() {
 
 int run_sample(const EngineOptions& options, const std::vector<std::string>& args) {
     Scene scene = load_scene_file(options.scene_path);
-    RunHeader header{scene_to_json(scene), options.parameters, options.bounds, options.base_seed};
+    RunHeader header{scene_to_json(scene), options.parameters, options.bounds, options.base_seed, engine_build()};
     CompiledScene compiled(std::move(scene), options.parameters);
     if (options.dry_run) {
         // What a front end asks before it samples: may this run go into that library?
@@ -59,6 +60,10 @@ int run_sample(const EngineOptions& options, const std::vector<std::string>& arg
     }
     LibraryWriter writer(options.output_path, header);
     for (const std::string& repair : writer.repairs()) std::cerr << "mwb-engine: " << repair << "\n";
+    if (writer.header().engine_build != header.engine_build)
+        std::cerr << "mwb-engine: warning: " << options.output_path << " was sampled by "
+                  << describe_build(writer.header().engine_build) << "; this engine is " << engine_build()
+                  << ": worlds it adds may not reproduce with the other build\n";
     // Worlds already in the file are kept, so an interrupted run resumes where it stopped.
     const std::set<uint64_t> present(writer.existing_world_indices().begin(), writer.existing_world_indices().end());
     std::vector<uint64_t> todo;
@@ -244,6 +249,7 @@ int run_info(const EngineOptions& options) {
                      {"base_seed", reader.header().base_seed},
                      {"run", nlohmann::json::parse(run_settings_to_json(reader.header()))},
                      {"scene_revision", reader.scene_revision()},
+                     {"engine_build", reader.header().engine_build},
                      {"warnings", reader.warnings()}};
     if (options.json) {
         std::cout << j.dump(2) << "\n";
@@ -253,6 +259,7 @@ int run_info(const EngineOptions& options) {
               << " rejected, " << scene.bodies.size() << " bodies, " << reader.file_size() << " bytes, "
               << j["motion_bytes_per_body_frame"].get<double>() << " motion bytes per body-frame, scene "
               << scene_hash(reader.header()) << "\n";
+    std::cout << "  made by " << describe_build(reader.header().engine_build) << "\n";
     for (const auto& [reason, count] : reasons) std::cout << "  rejected " << count << ": " << reason << "\n";
     for (const std::string& w : reader.warnings()) std::cout << "  warning: " << w << "\n";
     return 0;

@@ -109,7 +109,7 @@ set_target_properties(mwb_ode PROPERTIES
   IMPORTED_LOCATION ${_ode_lib}
   INTERFACE_INCLUDE_DIRECTORIES ${MWB_ODE_INSTALL_DIR}/include
   INTERFACE_COMPILE_DEFINITIONS "dIDEDOUBLE;MWB_ODE_PER_THREAD_RANDOM"
-  INTERFACE_LINK_LIBRARIES "mwb_ccd;mwb_portable_math;Threads::Threads")
+  INTERFACE_LINK_LIBRARIES "mwb_ccd;mwb_common;Threads::Threads")
 add_dependencies(mwb_ode ode_from_source)
 set(MWB_ODE_BUILD "ODE 0.16.2 + libccd 2.1 (Debian source), per-thread random, portable math, ${_ode_flags}")
 # A changed symbol list renames again.

@@ -32,6 +32,7 @@ py::dict header_dict(const RunHeader& h) {
     d["rotation_error_max_rad"] = h.bounds.rotation_error_max_rad;
     d["scene_hash"] = scene_hash(h);
     d["run_hash"] = run_hash(h);
+    d["engine_build"] = h.engine_build;
     d["parameters"] = py::cast(h.parameters);
     return d;
 }

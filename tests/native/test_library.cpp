@@ -9,12 +9,14 @@
 #include <map>
 
 #include "SceneFixtures.h"
+#include "common/BuildInfo.h"
 #include "library/ByteIO.h"
 #include "library/LibraryFormat.h"
 #include "library/LibraryMerge.h"
 #include "library/LibraryReader.h"
 #include "library/LibraryWriter.h"
 #include "library/WorldDecoding.h"
+#include "refine/StoredWorldRefinement.h"
 #include "sampler/Sampler.h"
 #include "scene/SceneJson.h"
 #include "sim/PortableRandom.h"
@@ -37,14 +39,14 @@ protected:
 
     std::string path(const std::string& name) const { return (dir_ / name).string(); }
 
-    static RunHeader header_for(const Scene& scene, uint64_t base_seed = 9) {
-        return RunHeader{scene_to_json(scene), SimulationParameters{}, CodecBounds{}, base_seed};
+    static RunHeader header_for(const Scene& scene, uint64_t base_seed = 9, const std::string& build = "") {
+        return RunHeader{scene_to_json(scene), SimulationParameters{}, CodecBounds{}, base_seed, build};
     }
 
     // Samples worlds [first, first + count) of `scene` into `file`; returns them as simulated.
     static std::map<uint64_t, WorldResult> sample_into(const std::string& file, const Scene& scene, uint64_t first,
-                                                       uint64_t count, int threads = 2) {
-        const RunHeader header = header_for(scene);
+                                                       uint64_t count, int threads = 2, const std::string& build = "") {
+        const RunHeader header = header_for(scene, 9, build);
         CompiledScene compiled(scene, header.parameters);
         LibraryWriter writer(file, header);
         std::map<uint64_t, WorldResult> worlds;
@@ -331,6 +333,53 @@ TEST_F(Library, MergeRefusesCollidingSeedsAndOtherRuns) {
     EXPECT_FALSE(fs::exists(path("out.mwb")));
     sample_into(path("other.mwb"), fixtures::ball_on_plane(3.0), 10, 1);
     EXPECT_THROW(merge_libraries({path("a.mwb"), path("other.mwb")}, path("out.mwb")), LibraryError);
+}
+
+TEST_F(Library, AWorldThatDoesNotReproduceNamesBothBuilds) {
+    // Worlds stored under a header they were not made with stand for another build's worlds.
+    const Scene scene = fixtures::pile(6, 24);
+    const std::string file = path("foreign.mwb");
+    {
+        CompiledScene compiled(scene, SimulationParameters{});
+        LibraryWriter writer(file, header_for(scene, 9, "many-worlds 0.0.9; another build"));
+        writer.append(simulate_world(compiled, 10, 0));
+    }
+    LibraryReader reader(file);
+    LibraryWriter writer(file, reader.header());
+    RefineRequest request;
+    request.parent_world = 0;
+    request.bodies = {1};
+    request.branch_time_s = 0.5;
+    try {
+        refine_stored_world(reader, request, writer, [](WorldResult&&) {});
+        FAIL() << "a world that does not reproduce must not be refined";
+    } catch (const RefineError& error) {
+        const std::string message = error.what();
+        EXPECT_NE(message.find("another build"), std::string::npos) << message;
+        EXPECT_NE(message.find(engine_build()), std::string::npos) << message;
+        EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
+    }
+}
+
+TEST_F(Library, TheEngineBuildIsRecordedAndShardsOfOtherBuildsMergeWithAWarning) {
+    const Scene scene = fixtures::ball_on_plane();
+    sample_into(path("farm.mwb"), scene, 0, 2, 2, "many-worlds 0.1.0; farm build");
+    sample_into(path("desk.mwb"), scene, 2, 2, 2, "many-worlds 0.1.0; desk build");
+    EXPECT_EQ(LibraryReader(path("farm.mwb")).header().engine_build, "many-worlds 0.1.0; farm build");
+    // The build is not part of the run: the shards are one run, and appending keeps the file's build.
+    EXPECT_EQ(run_hash(LibraryReader(path("farm.mwb")).header()), run_hash(LibraryReader(path("desk.mwb")).header()));
+    EXPECT_EQ(LibraryWriter(path("farm.mwb"), header_for(scene, 9, "another")).header().engine_build,
+              "many-worlds 0.1.0; farm build");
+    const std::vector<std::string> warnings = merge_libraries({path("farm.mwb"), path("desk.mwb")}, path("all.mwb"));
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find("desk build"), std::string::npos) << warnings[0];
+    EXPECT_NE(warnings[0].find("farm build"), std::string::npos) << warnings[0];
+    EXPECT_EQ(LibraryReader(path("all.mwb")).worlds().size(), 4u);
+    // Libraries from before builds were recorded read as an unrecorded build, and merge quietly.
+    sample_into(path("old_a.mwb"), scene, 0, 1);
+    sample_into(path("old_b.mwb"), scene, 1, 1);
+    EXPECT_EQ(LibraryReader(path("old_a.mwb")).header().engine_build, "");
+    EXPECT_TRUE(merge_libraries({path("old_a.mwb"), path("old_b.mwb")}, path("old.mwb")).empty());
 }
 
 }  // namespace

@@ -2,8 +2,8 @@
 # The release, as a user gets it, on systems without our build tools or ODE:
 #   1. build the release binaries in the Debian 11 chroot (native/release/build_release.sh) and
 #      check them: no glibc symbol newer than 2.31, no library outside glibc but those beside them;
-#   2. in the Debian 11 chroot (the oldest glibc we promise): the engine samples a scene with a
-#      trimesh, a cone and a cylinder, and the library is byte for byte the host build's;
+#   2. in the Debian 11 chroot (the oldest glibc we promise): the engine samples and reports
+#      (tests/release/cross_machine.sh compares the worlds across machines);
 #   3. in the Debian 13 chroot with ODE and libccd removed: install the extension zip with
 #      `blender -c extension install-file`, then `blender -c many_worlds sample FILE.blend`,
 #      `info` and `bake` (Debian's Blender itself depends on libgomp1, so that one stays);
@@ -54,11 +54,9 @@ flock 9
 mount_checkout "$BULLSEYE" "$ROOT"
 in_chroot "$BULLSEYE" sh -c "ldd --version | head -n 1"
 in_chroot "$BULLSEYE" "$DIST/bin/mwb-engine" sample --scene "$ROOT/tests/scenes/quickstart.json" \
-    --worlds 0:16 --threads 1 --out "$WORK/bullseye.mwb" | tail -n 1
-"$HOST_ENGINE" sample --scene "$ROOT/tests/scenes/quickstart.json" --worlds 0:16 --threads 1 \
-    --out "$WORK/host.mwb" > /dev/null
-cmp "$WORK/bullseye.mwb" "$WORK/host.mwb" || fail "the release engine in Debian 11 made other worlds than the host build"
-echo "release: Debian 11's library is byte for byte the host's"
+    --worlds 0:16 --threads 2 --out "$WORK/bullseye.mwb" | tail -n 1
+in_chroot "$BULLSEYE" "$DIST/bin/mwb-engine" info "$WORK/bullseye.mwb" > "$WORK/bullseye.txt"
+grep -q "bullseye.mwb: 16 worlds" "$WORK/bullseye.txt" || { cat "$WORK/bullseye.txt"; fail "the engine in Debian 11 did not store 16 worlds"; }
 unmount_checkout "$BULLSEYE" "$ROOT"
 flock -u 9
 

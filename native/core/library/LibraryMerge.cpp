@@ -5,6 +5,7 @@
 #include <map>
 #include <sys/stat.h>
 
+#include "common/BuildInfo.h"
 #include "library/ByteIO.h"
 #include "library/LibraryFormat.h"
 #include "library/LibraryReader.h"
@@ -35,6 +36,10 @@ std::vector<std::string> merge_libraries(const std::vector<std::string>& inputs,
         if (run_hash(readers.back().header()) != run_hash(readers.front().header()))
             throw LibraryError("merge: " + path + " is from another run than " + inputs.front() +
                                " (scene, parameters, codec bounds or base seed differ)");
+        if (readers.back().header().engine_build != readers.front().header().engine_build)
+            warnings.push_back(path + " was sampled by " + describe_build(readers.back().header().engine_build) +
+                               ", " + inputs.front() + " by " + describe_build(readers.front().header().engine_build) +
+                               ": their worlds may not refine with one engine");
     }
     // Scene revisions come first, as in every input; inputs must agree on them (one may have fewer).
     std::vector<const RawRecord*> revisions;

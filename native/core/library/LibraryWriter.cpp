@@ -57,6 +57,7 @@ LibraryWriter::LibraryWriter(const std::string& path, const RunHeader& header)
         if (run_hash(existing.header()) != run_hash(header))
             throw LibraryError(path + ": holds another run (different scene, parameters, codec bounds or base seed; run " +
                                run_hash(existing.header()) + ", expected " + run_hash(header) + ")");
+        header_.engine_build = existing.header().engine_build;
         for (const StoredWorld& w : existing.worlds()) existing_.push_back(w.world_index);
         for (const StoredRejection& r : existing.rejections()) existing_.push_back(r.world_index);
         std::sort(existing_.begin(), existing_.end());

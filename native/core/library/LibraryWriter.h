@@ -29,6 +29,8 @@ public:
 
     /// Worlds already in the file when it was opened (for appending more later).
     const std::vector<uint64_t>& existing_world_indices() const { return existing_; }
+    /// The run header as in the file (an existing file keeps the engine build that sampled it).
+    const RunHeader& header() const { return header_; }
     /// What opening an existing file had to repair (a torn last record), for the user.
     const std::vector<std::string>& repairs() const { return repairs_; }
 

@@ -61,14 +61,20 @@ std::string fnv1a_hex(const std::string& text) {
     return hex;
 }
 
+/// The run without the engine build: what the run hash covers.
+json run_to_json(const RunHeader& header) {
+    return {{"scene", json::parse(header.scene_json)},
+            {"parameters", parameters_to_json(header.parameters)},
+            {"codec", {{"position_error_max_m", header.bounds.position_error_max_m},
+                       {"rotation_error_max_rad", header.bounds.rotation_error_max_rad}}},
+            {"base_seed", header.base_seed}};
+}
+
 }  // namespace
 
 std::string run_header_to_json(const RunHeader& header) {
-    const json j{{"scene", json::parse(header.scene_json)},
-                 {"parameters", parameters_to_json(header.parameters)},
-                 {"codec", {{"position_error_max_m", header.bounds.position_error_max_m},
-                            {"rotation_error_max_rad", header.bounds.rotation_error_max_rad}}},
-                 {"base_seed", header.base_seed}};
+    json j = run_to_json(header);
+    if (!header.engine_build.empty()) j["engine"] = header.engine_build;
     return j.dump();
 }
 
@@ -81,6 +87,7 @@ RunHeader run_header_from_json(const std::string& text, const std::string& where
         header.bounds.position_error_max_m = j.at("codec").at("position_error_max_m").get<double>();
         header.bounds.rotation_error_max_rad = j.at("codec").at("rotation_error_max_rad").get<double>();
         header.base_seed = j.at("base_seed").get<uint64_t>();
+        if (j.contains("engine")) header.engine_build = j.at("engine").get<std::string>();
         return header;
     } catch (const json::exception& error) {
         throw LibraryError(where + ": run header is malformed: " + error.what());
@@ -95,7 +102,7 @@ std::string run_settings_to_json(const RunHeader& header) {
     return j.dump();
 }
 
-std::string run_hash(const RunHeader& header) { return fnv1a_hex(run_header_to_json(header)); }
+std::string run_hash(const RunHeader& header) { return fnv1a_hex(run_to_json(header).dump()); }
 
 std::string scene_hash(const RunHeader& header) { return fnv1a_hex(json::parse(header.scene_json).dump()); }
 

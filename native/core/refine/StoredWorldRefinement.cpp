@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/BuildInfo.h"
 #include "library/LibraryFormat.h"
 #include "library/SceneRevision.h"
 #include "scene/BodyChanges.h"
@@ -11,6 +12,15 @@
 
 namespace mwb {
 namespace {
+
+std::string not_reproduced_message(uint64_t world, const std::string& recorded_build) {
+    const std::string head = "world " + std::to_string(world) + " does not come out as stored: ";
+    if (recorded_build == engine_build())
+        return head + "the library was sampled by this same engine build (" + engine_build() +
+               "), so the file may be damaged; sample the world again";
+    return head + "the library was sampled by " + describe_build(recorded_build) + ", this engine is " +
+           engine_build() + "; refine with the engine that sampled it, or sample again with this one";
+}
 
 const StoredWorld& find_world(const LibraryReader& reader, uint64_t world_index) {
     for (const StoredWorld& w : reader.worlds())
@@ -65,8 +75,7 @@ RefineOutcome refine_stored_world(const LibraryReader& reader, const RefineReque
     if (chain.empty()) {
         chain = simulate_lineage(compiled, header.base_seed, root, parent.lineage);
         if (chain.back().frame_count != parent.frame_count || chain.back().contacts.size() != parent.contacts.size())
-            throw RefineError("world " + std::to_string(parent.world_index) +
-                              " does not come out as stored: the library was made by a different engine build");
+            throw RefineError(not_reproduced_message(parent.world_index, header.engine_build));
         if (cache && same_scene)
             for (const WorldResult& w : chain) cache->keep(w);
     }
