@@ -7,7 +7,8 @@ BUILD=${MWB_BUILD_DIR:-$ROOT/build}
 
 PACKAGES="cmake g++ make patch pkg-config pybind11-dev nlohmann-json3-dev zlib1g-dev
 googletest libgtest-dev python3-dev python3-pytest python3-numpy blender xvfb xauth
-clang libclang-rt-14-dev slurm-wlm munge debootstrap"
+clang libclang-rt-14-dev slurm-wlm munge debootstrap
+mingw-w64 g++-mingw-w64-x86-64-posix libz-mingw-w64-dev wine64"
 # The Flamenco job type is tested with Node.js; use the machine's if it has one.
 command -v node >/dev/null 2>&1 || PACKAGES="$PACKAGES nodejs"
 

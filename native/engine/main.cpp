@@ -13,11 +13,15 @@
 #include <nlohmann/json.hpp>
 
 #include <omp.h>
+#ifndef _WIN32
 #include <unistd.h>
+#endif
 
 #include "EngineOptions.h"
+#ifndef _WIN32
 #include "SupervisedSampler.h"
 #include "WorldWorker.h"
+#endif
 #include "common/BuildInfo.h"
 #include "library/ByteIO.h"
 #include "library/LibraryReader.h"
@@ -38,6 +42,13 @@ SamplingProgress g_progress;
 
 void request_cancel(int) { g_progress.cancel.store(true); }
 
+#ifdef _WIN32
+// Worker processes need fork: on Windows every world is simulated in the engine's own process,
+// as with --in-process (a world that crashes ODE ends the run there).
+constexpr bool kWorkerProcesses = false;
+#else
+constexpr bool kWorkerProcesses = true;
+
 // The engine executable itself, for its worker processes.
 std::string own_executable() {
     char path[4096];
@@ -45,8 +56,9 @@ std::string own_executable() {
     if (n <= 0) throw std::runtime_error("cannot find the engine executable (/proc/self/exe)");
     return std::string(path, static_cast<size_t>(n));
 }
+#endif
 
-int run_sample(const EngineOptions& options, const std::vector<std::string>& args) {
+int run_sample(const EngineOptions& options, [[maybe_unused]] const std::vector<std::string>& args) {
     Scene scene = load_scene_file(options.scene_path);
     RunHeader header{scene_to_json(scene), options.parameters, options.bounds, options.base_seed, engine_build()};
     CompiledScene compiled(std::move(scene), options.parameters);
@@ -80,7 +92,7 @@ int run_sample(const EngineOptions& options, const std::vector<std::string>& arg
         }
     };
     SamplingStatistics stats;
-    if (options.in_process) {
+    if (options.in_process || !kWorkerProcesses) {
         stats = sample_world_list(
             compiled, options.base_seed, todo, options.threads,
             [&](WorldResult&& world) {
@@ -89,12 +101,14 @@ int run_sample(const EngineOptions& options, const std::vector<std::string>& arg
             },
             &g_progress);
     } else {
+#ifndef _WIN32
         // Each world in a worker process: a world that crashes ODE is rejected, the run goes on.
         SupervisedRun run{own_executable(), args, options.threads > 0 ? options.threads : omp_get_max_threads(),
                           options.base_seed, options.world_time_limit_s};
         run.worker_args[0] = "worker";
         stats = sample_supervised(run, todo, writer, [&](uint64_t world_index, bool) { report(world_index); },
                                   g_progress.cancel);
+#endif
     }
     std::cout << "sampled " << stats.worlds_ok << " worlds, rejected " << stats.worlds_rejected << ", skipped "
               << present.size() << " already stored" << (g_progress.cancel ? ", cancelled" : "") << " in "
@@ -284,7 +298,11 @@ int run_validate(const EngineOptions& options) {
 int run(const std::vector<std::string>& args) {
     const EngineOptions options = parse_engine_options(args);
     if (options.command == "sample") return run_sample(options, args);
+#ifdef _WIN32
+    if (options.command == "worker") throw UsageError("worker processes are not available on Windows");
+#else
     if (options.command == "worker") return run_world_worker(options);
+#endif
     if (options.command == "refine") return run_refine(options);
     if (options.command == "seek") return run_seek(options);
     if (options.command == "info") return run_info(options);

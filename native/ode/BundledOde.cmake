@@ -40,6 +40,11 @@ set(_ode_host "")
 if(CMAKE_CROSSCOMPILING AND MWB_ODE_HOST)
   set(_ode_host --host=${MWB_ODE_HOST})
 endif()
+set(_ode_patch patch -p1 -i ${CMAKE_CURRENT_LIST_DIR}/per-thread-random.patch)
+if(CMAKE_CROSSCOMPILING AND WIN32)
+  # MinGW-w64's headers are lower-case, which matters on the Linux machine that cross-compiles.
+  list(APPEND _ode_patch COMMAND patch -p1 -i ${CMAKE_CURRENT_LIST_DIR}/mingw-windows-header.patch)
+endif()
 set(_ode_toolchain -DCMAKE_C_COMPILER=${CMAKE_C_COMPILER})
 if(CMAKE_TOOLCHAIN_FILE)
   list(APPEND _ode_toolchain -DCMAKE_TOOLCHAIN_FILE=${CMAKE_TOOLCHAIN_FILE})
@@ -77,7 +82,7 @@ ExternalProject_Add(ode_from_source
   DEPENDS ccd_from_source
   URL ${MWB_ODE_SOURCE_DIR}/ode_0.16.2.orig.tar.gz
   URL_HASH SHA256=b26aebdcb015e2d89720ef48e0cb2e8a3ca77915f89d853893e7cc861f810f22
-  PATCH_COMMAND patch -p1 -i ${CMAKE_CURRENT_LIST_DIR}/per-thread-random.patch
+  PATCH_COMMAND ${_ode_patch}
   BUILD_IN_SOURCE ON
   CONFIGURE_COMMAND ${CMAKE_COMMAND} -E env
     PKG_CONFIG_PATH=${MWB_ODE_INSTALL_DIR}/lib/pkgconfig

@@ -1,9 +1,15 @@
 #include "library/LibraryWriter.h"
 
 #include <fcntl.h>
-#include <sys/file.h>
 #include <sys/stat.h>
+#ifdef _WIN32
+#include <io.h>
+#define WIN32_LEAN_AND_MEAN
+#include <windows.h>
+#else
+#include <sys/file.h>
 #include <unistd.h>
+#endif
 
 #include <algorithm>
 #include <chrono>
@@ -23,6 +29,43 @@ namespace {
 [[noreturn]] void fail(const std::string& path, const std::string& what) {
     throw LibraryError(path + ": " + what + " (" + std::strerror(errno) + ")");
 }
+
+// The few file operations that differ between POSIX and Windows (MinGW-w64's C runtime).
+#ifdef _WIN32
+bool holds_bytes(const std::string& path) {
+    struct _stati64 info{};
+    return ::_stati64(path.c_str(), &info) == 0 && info.st_size > 0;
+}
+
+int open_for_writing(const std::string& path) {
+    return ::_open(path.c_str(), _O_WRONLY | _O_CREAT | _O_BINARY | _O_NOINHERIT, _S_IREAD | _S_IWRITE);
+}
+
+// Windows locks are mandatory: a lock on the records would stop readers (a viewer following the
+// file). One byte far beyond the end of any library is locked instead, which only writers ask for.
+bool lock_for_writing(int fd) {
+    OVERLAPPED far_byte{};
+    far_byte.Offset = 0xfffffffeu;
+    far_byte.OffsetHigh = 0x7fffffffu;
+    return ::LockFileEx(reinterpret_cast<HANDLE>(::_get_osfhandle(fd)), LOCKFILE_EXCLUSIVE_LOCK | LOCKFILE_FAIL_IMMEDIATELY,
+                        0, 1, 0, &far_byte) != 0;
+}
+
+bool cut_at(int fd, uint64_t size) { return ::_chsize_s(fd, static_cast<__int64>(size)) == 0; }
+bool seek_to_end(int fd) { return ::_lseeki64(fd, 0, SEEK_END) >= 0; }
+bool flush_to_disk(int fd) { return ::_commit(fd) == 0; }
+#else
+bool holds_bytes(const std::string& path) {
+    struct stat info{};
+    return ::stat(path.c_str(), &info) == 0 && info.st_size > 0;
+}
+
+int open_for_writing(const std::string& path) { return ::open(path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644); }
+bool lock_for_writing(int fd) { return ::flock(fd, LOCK_EX | LOCK_NB) == 0; }
+bool cut_at(int fd, uint64_t size) { return ::ftruncate(fd, static_cast<off_t>(size)) == 0; }
+bool seek_to_end(int fd) { return ::lseek(fd, 0, SEEK_END) >= 0; }
+bool flush_to_disk(int fd) { return ::fdatasync(fd) == 0; }
+#endif
 
 void write_all(int fd, const std::vector<uint8_t>& bytes, const std::string& path) {
     size_t done = 0;
@@ -49,8 +92,7 @@ std::vector<uint8_t> file_prologue(const RunHeader& header) {
 
 LibraryWriter::LibraryWriter(const std::string& path, const RunHeader& header)
     : path_(path), header_(header), gravity_(scene_from_json(header.scene_json).world.gravity) {
-    struct stat info{};
-    const bool exists = ::stat(path.c_str(), &info) == 0 && info.st_size > 0;
+    const bool exists = holds_bytes(path);
     uint64_t intact_end = 0;
     if (exists) {
         LibraryReader existing(path);
@@ -66,26 +108,26 @@ LibraryWriter::LibraryWriter(const std::string& path, const RunHeader& header)
             repairs_.push_back(path + ": cut off an incomplete last record of " +
                                std::to_string(existing.pending_tail_bytes()) + " bytes at byte " + std::to_string(intact_end));
     }
-    fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0644);
+    fd_ = open_for_writing(path);
     if (fd_ < 0) fail(path, "cannot open for writing");
     // One writer per file: a second one would interleave records.
-    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    if (!lock_for_writing(fd_)) {
         ::close(fd_);
         fd_ = -1;
         throw LibraryError(path + ": another process is writing this library");
     }
     if (exists) {
-        if (::ftruncate(fd_, static_cast<off_t>(intact_end)) != 0) fail(path, "cannot cut off the torn record");
+        if (!cut_at(fd_, intact_end)) fail(path, "cannot cut off the torn record");
     } else {
         write_all(fd_, file_prologue(header), path);
-        if (::fdatasync(fd_) != 0) fail(path, "flush failed");
+        if (!flush_to_disk(fd_)) fail(path, "flush failed");
     }
-    if (::lseek(fd_, 0, SEEK_END) < 0) fail(path, "seek failed");
+    if (!seek_to_end(fd_)) fail(path, "seek failed");
 }
 
 LibraryWriter::~LibraryWriter() {
     if (fd_ >= 0) {
-        ::fdatasync(fd_);
+        flush_to_disk(fd_);
         ::close(fd_);
     }
 }
@@ -114,7 +156,7 @@ void LibraryWriter::append_record(uint32_t type, uint32_t version, const std::ve
     write_all(fd_, out.bytes(), path_);
     const auto now = std::chrono::steady_clock::now();
     if (now - last_sync_ >= std::chrono::seconds(1)) {
-        if (::fdatasync(fd_) != 0) fail(path_, "flush failed");
+        if (!flush_to_disk(fd_)) fail(path_, "flush failed");
         last_sync_ = now;
     }
 }
