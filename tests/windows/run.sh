@@ -3,10 +3,10 @@
 # cross-compiled for 64-bit Windows with MinGW-w64 (native/release/windows/build_windows.sh, cached
 # in build-windows/), then under wine64:
 #   - the GoogleTest programs of the core (every test but those named in WINDOWS_EXCLUDED below);
-#   - `mwb-engine.exe sample` of a scene with every shape kind and joints, whose library must hold
-#     byte for byte the worlds the Linux engine samples with the same arguments
-#     (compare_libraries.py: all but the engine build each file records), and which the Linux
-#     engine reads.
+#   - `mwb-engine.exe sample` (resumed once) and `refine` on a scene with every shape kind and
+#     joints, whose library must hold byte for byte the worlds the Linux engine makes with the same
+#     seeds (compare_libraries.py: all but the engine build each file records), and which the
+#     Linux engine reads and merges.
 # Installs mingw-w64, g++-mingw-w64-x86-64-posix, libz-mingw-w64-dev and wine64 when root and
 # missing; otherwise prints "skipped: <reason>" and exits with $MWB_SKIP_STATUS (default 0).
 #   tests/windows/run.sh [LINUX_ENGINE]      (default: the add-on's bin/mwb-engine)
@@ -72,12 +72,19 @@ for suite in scene codec sim library query; do
         failed=$((failed + 1))
     fi
 done
-[ "$failed" -eq 0 ] || { echo "FAIL: $failed of 5 Windows test programs failed"; exit 1; }
-
-# One worker thread, so both engines append the worlds in the same order.
-"$WINE" "$BUILD/native/mwb-engine.exe" sample --scene "$SCENE" --worlds 0:12 --threads 1 --out windows.mwb
+# On Windows two threads, a run resumed in the same file and a refinement; on Linux one run of
+# each. The Linux engine's merge writes each file's worlds in index order, so the two compare.
+win() { "$WINE" "$BUILD/native/mwb-engine.exe" "$@"; }
+win sample --scene "$SCENE" --worlds 0:6 --threads 2 --out windows.mwb
+win sample --scene "$SCENE" --worlds 0:12 --threads 2 --out windows.mwb
+win refine --library windows.mwb --world 3 --bodies 2,3 --time 0.5 --count 3 --threads 2
 "$LINUX_ENGINE" sample --scene "$SCENE" --worlds 0:12 --threads 1 --out linux.mwb > /dev/null
+"$LINUX_ENGINE" refine --library linux.mwb --world 3 --bodies 2,3 --time 0.5 --count 3 --threads 1 > /dev/null
 "$LINUX_ENGINE" info windows.mwb
-python3 "$ROOT/tests/windows/compare_libraries.py" windows.mwb linux.mwb ||
+"$LINUX_ENGINE" merge windows-merged.mwb windows.mwb > /dev/null
+"$LINUX_ENGINE" merge linux-merged.mwb linux.mwb > /dev/null
+python3 "$ROOT/tests/windows/compare_libraries.py" windows-merged.mwb linux-merged.mwb ||
     { echo "FAIL: the worlds sampled on Windows differ from Linux's"; exit 1; }
-echo "windows-cross: $passed native tests passed under wine; mwb-engine.exe sampled 12 worlds, the same bytes as on Linux"
+[ "$failed" -eq 0 ] || { echo "FAIL: $failed of 5 Windows test programs failed (above)"; exit 1; }
+echo "windows-cross: $passed native tests passed under wine; mwb-engine.exe sampled and refined 15 worlds," \
+     "the same bytes as on Linux"
