@@ -84,7 +84,7 @@ win refine --library windows.mwb --world 3 --bodies 2,3 --time 0.5 --count 3 --t
 "$LINUX_ENGINE" merge windows-merged.mwb windows.mwb > /dev/null
 "$LINUX_ENGINE" merge linux-merged.mwb linux.mwb > /dev/null
 python3 "$ROOT/tests/windows/compare_libraries.py" windows-merged.mwb linux-merged.mwb ||
-    { echo "FAIL: the worlds sampled on Windows differ from Linux's"; exit 1; }
+    { echo "FAIL: the worlds sampled on Windows differ from Linux's (are both engines built from the same sources?)"; exit 1; }
 [ "$failed" -eq 0 ] || { echo "FAIL: $failed of 5 Windows test programs failed (above)"; exit 1; }
 echo "windows-cross: $passed native tests passed under wine; mwb-engine.exe sampled and refined 15 worlds," \
      "the same bytes as on Linux"
