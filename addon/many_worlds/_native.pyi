@@ -42,6 +42,10 @@ class SimulationParameters:
     max_speed_mps: float
     max_distance_m: float
     perturb: bool
+    sleep: bool
+    sleep_linear_speed: float
+    sleep_angular_speed: float
+    sleep_delay_s: float
     def __init__(self) -> None: ...
 
 class World:

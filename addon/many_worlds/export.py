@@ -233,9 +233,11 @@ class SceneExporter:
                 "linear_damping": float(rbo.linear_damping), "angular_damping": float(rbo.angular_damping),
                 "collision_collections": sum(1 << i for i, on in enumerate(rbo.collision_collections) if on),
                 "initial": initial}
-        if rbo.use_deactivation or rbo.use_start_deactivated:
-            self.report(ob.name, "use_deactivation", "deactivation is not supported; the engine ends a world "
-                                                     "when every body rests")
+        if rbo.use_deactivation:
+            # Bullet's sleeping, as Blender sets it up: Start Deactivated only counts with Deactivation on.
+            body["deactivation"] = {"enabled": True, "start_deactivated": bool(rbo.use_start_deactivated),
+                                    "linear_speed": float(rbo.deactivate_linear_velocity),
+                                    "angular_speed": float(rbo.deactivate_angular_velocity)}
         if kinematic and animation:
             body["animation"] = animation
         if animated_until_s is not None:

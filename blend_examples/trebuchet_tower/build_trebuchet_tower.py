@@ -129,8 +129,8 @@ def pinwheel_layer(mirrored):
 
 
 def build_tower(mats):
-    """LAYERS x 16 = 192 blocks resting exactly on each other (no gaps, no overlaps) so the stack
-    stands still until the rock arrives."""
+    """LAYERS x 16 = 192 blocks resting exactly on each other (no gaps, no overlaps), asleep, so
+    the stack stands still until the rock arrives."""
     count = 0
     for layer in range(LAYERS):
         z = (layer + 0.5) * BLOCK_HEIGHT
@@ -140,6 +140,11 @@ def build_tower(mats):
             block = box(f"Block{count:03d}", size, location=TOWER_CENTRE + Vector((x, y, z)),
                         mat=mats["stone" if layer % 2 else "stone2"])
             rigid_body(block, "ACTIVE", "BOX", mass=BLOCK_MASS, friction=0.6, restitution=0.05)
+            # As animators keep a stack from settling before it is hit: Bullet's Deactivation,
+            # starting asleep. Both Blender and the engine then leave the tower alone until the
+            # rock (or a falling block) reaches it, and neither spends time on it until then.
+            block.rigid_body.use_deactivation = True
+            block.rigid_body.use_start_deactivated = True
 
 
 def build_bystanders(mats):

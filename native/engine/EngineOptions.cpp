@@ -53,7 +53,7 @@ std::vector<std::string> parse_names(const std::string& flag, const std::string&
 const char* engine_usage() {
     return "usage:\n"
            "  mwb-engine sample --scene SCENE.json --out LIB.mwb [--seed S] [--worlds A:B | --count N]\n"
-           "                    [--threads T] [--duration SECONDS] [--alpha A] [--no-perturb] [--no-stop-at-rest]\n"
+           "                    [--threads T] [--duration SECONDS] [--alpha A] [--no-perturb] [--no-sleep] [--no-stop-at-rest]\n"
            "                    [--position-error METRES] [--rotation-error DEGREES] [--progress]\n"
            "                    [--world-time-limit SECONDS] [--in-process] [--dry-run]\n"
            "  mwb-engine refine --library LIB.mwb --world W --bodies I,J --time SECONDS [--count N]\n"
@@ -88,6 +88,7 @@ EngineOptions parse_engine_options(const std::vector<std::string>& args) {
         else if (flag == "--duration") options.parameters.duration_s = parse_number(flag, value());
         else if (flag == "--alpha") options.parameters.alpha_linear = options.parameters.alpha_angular = parse_number(flag, value());
         else if (flag == "--no-perturb") options.parameters.perturb = false;
+        else if (flag == "--no-sleep") options.parameters.sleep = false;
         else if (flag == "--no-stop-at-rest") options.parameters.stop_at_rest = false;
         else if (flag == "--position-error") options.bounds.position_error_max_m = parse_number(flag, value());
         else if (flag == "--rotation-error") options.bounds.rotation_error_max_rad = parse_number(flag, value()) * kPi / 180;

@@ -61,7 +61,11 @@ void bind_scene(py::module_& m) {
         .def_readwrite("checkpoint_interval_s", &SimulationParameters::checkpoint_interval_s)
         .def_readwrite("max_speed_mps", &SimulationParameters::max_speed_mps)
         .def_readwrite("max_distance_m", &SimulationParameters::max_distance_m)
-        .def_readwrite("perturb", &SimulationParameters::perturb);
+        .def_readwrite("perturb", &SimulationParameters::perturb)
+        .def_readwrite("sleep", &SimulationParameters::sleep)
+        .def_readwrite("sleep_linear_speed", &SimulationParameters::sleep_linear_speed)
+        .def_readwrite("sleep_angular_speed", &SimulationParameters::sleep_angular_speed)
+        .def_readwrite("sleep_delay_s", &SimulationParameters::sleep_delay_s);
 
     m.def("validate_scene_json",
           [](const std::string& text) -> std::vector<std::string> {

@@ -233,12 +233,16 @@ def test_unsupported_settings_are_listed_by_object_and_setting():
     assert invalid == []
     text = "\n".join(result.problems)
     for expected in ("Rigid Body World: use_split_impulse:", "Mirrored: scale: negative",
-                     "Egg: scale: non-uniform scale on a SPHERE", "Sleepy: use_deactivation:",
+                     "Egg: scale: non-uniform scale on a SPHERE",
                      "Statue: collision_shape: MESH on an active body", "Free: linear limits:",
                      "Orphan: object2: 'NotABody' is not an exported rigid body"):
         assert expected in text, text
     bodies = {b["name"]: b for b in result.scene["bodies"]}
     assert bodies["Statue"]["shape"]["type"] == "CONVEX_HULL"
+    # Deactivation is Bullet's sleeping, which the engine reproduces: exported, not warned about.
+    assert "Sleepy:" not in text
+    assert bodies["Sleepy"]["deactivation"] == {"enabled": True, "start_deactivated": False,
+                                                "linear_speed": pytest.approx(0.4), "angular_speed": pytest.approx(0.5)}
     assert result.scene["constraints"] == []
 
 

@@ -100,10 +100,10 @@ def test_lineage_steps_name_the_bodies_added_and_removed():
 
 def test_the_panel_folds_one_approximation_on_many_objects_into_a_line_naming_them_all():
     joints = [f"Joint{k}: spring_damping_ang: angular spring damping is approximated" for k in range(4)]
-    lines = ["Box: use_deactivation: deactivation is not supported", *joints,
+    lines = ["Box: scale: negative scale is mirrored", *joints,
              "Shelf: breaking_threshold: breaking is approximated", "Lid: breaking_threshold: breaking is approximated"]
     grouped = export_warnings.grouped_warning_lines(lines)
-    assert grouped == ["Box: use_deactivation: deactivation is not supported",
+    assert grouped == ["Box: scale: negative scale is mirrored",
                        "spring_damping_ang on 4 objects (Joint0, Joint1, Joint2, Joint3): angular spring damping "
                        "is approximated",
                        "Shelf: breaking_threshold: breaking is approximated",

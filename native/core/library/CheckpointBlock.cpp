@@ -38,6 +38,7 @@ void write_checkpoints(ByteWriter& out, const std::vector<Checkpoint>& checkpoin
             put_vec(raw, s.angular_velocity.data(), 3);
             raw.put(c.body_rest_since_s[i]);
             raw.put(c.body_impact_partner[i]);
+            raw.put(i < c.body_quiet_since_s.size() ? c.body_quiet_since_s[i] : -1.0);
         }
         for (uint32_t j = 0; j < joint_count; ++j) raw.put(c.joint_broken[j]);
     }
@@ -51,7 +52,10 @@ void write_checkpoints(ByteWriter& out, const std::vector<Checkpoint>& checkpoin
     out.put_blob(packed);
 }
 
-std::vector<Checkpoint> read_checkpoints(ByteReader& in) {
+std::vector<Checkpoint> read_checkpoints(ByteReader& in, uint32_t record_version) {
+    // Version 4 added each body's quiet time (sleeping); earlier worlds never slept.
+    const bool has_quiet = record_version >= 4;
+    const size_t body_bytes = kBodyStateBytes + (has_quiet ? sizeof(double) : 0);
     const auto plain_size = in.get<uint64_t>();
     const auto [packed, packed_size] = in.get_blob();
     // Deflate cannot expand data more than 1032:1; a larger claim is corruption, refused before
@@ -66,7 +70,7 @@ std::vector<Checkpoint> read_checkpoints(ByteReader& in) {
     const size_t count = raw.get_count(1);
     const auto body_count = raw.get<uint32_t>();
     const auto joint_count = raw.get<uint32_t>();
-    const uint64_t per_checkpoint = 6 * 8 + uint64_t{body_count} * kBodyStateBytes + joint_count;
+    const uint64_t per_checkpoint = 6 * 8 + uint64_t{body_count} * body_bytes + joint_count;
     if (count * per_checkpoint > raw.remaining()) raw.fail("checkpoint counts exceed the block");
     std::vector<Checkpoint> checkpoints(count);
     for (Checkpoint& c : checkpoints) {
@@ -76,6 +80,7 @@ std::vector<Checkpoint> read_checkpoints(ByteReader& in) {
         c.bodies.resize(body_count);
         c.body_rest_since_s.resize(body_count);
         c.body_impact_partner.resize(body_count);
+        c.body_quiet_since_s.assign(body_count, -1.0);
         for (uint32_t i = 0; i < body_count; ++i) {
             BodyState& s = c.bodies[i];
             get_vec(raw, s.position_m.data(), 3);
@@ -84,6 +89,7 @@ std::vector<Checkpoint> read_checkpoints(ByteReader& in) {
             get_vec(raw, s.angular_velocity.data(), 3);
             c.body_rest_since_s[i] = raw.get<double>();
             c.body_impact_partner[i] = raw.get<int32_t>();
+            if (has_quiet) c.body_quiet_since_s[i] = raw.get<double>();
         }
         c.joint_broken.resize(joint_count);
         for (uint32_t j = 0; j < joint_count; ++j) c.joint_broken[j] = raw.get<uint8_t>();

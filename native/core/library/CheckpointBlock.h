@@ -10,6 +10,7 @@ namespace mwb {
 
 void write_checkpoints(ByteWriter& out, const std::vector<Checkpoint>& checkpoints, uint32_t body_count,
                        uint32_t joint_count);
-std::vector<Checkpoint> read_checkpoints(ByteReader& in);
+/// `record_version`: the world record's version, which decides the checkpoint layout.
+std::vector<Checkpoint> read_checkpoints(ByteReader& in, uint32_t record_version);
 
 }  // namespace mwb

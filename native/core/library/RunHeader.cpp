@@ -26,7 +26,11 @@ json parameters_to_json(const SimulationParameters& p) {
             {"checkpoint_interval_s", p.checkpoint_interval_s},
             {"max_speed_mps", p.max_speed_mps},
             {"max_distance_m", p.max_distance_m},
-            {"perturb", p.perturb}};
+            {"perturb", p.perturb},
+            {"sleep", p.sleep},
+            {"sleep_linear_speed", p.sleep_linear_speed},
+            {"sleep_angular_speed", p.sleep_angular_speed},
+            {"sleep_delay_s", p.sleep_delay_s}};
 }
 
 SimulationParameters parameters_from_json(const json& j) {
@@ -47,6 +51,11 @@ SimulationParameters parameters_from_json(const json& j) {
     p.max_speed_mps = j.at("max_speed_mps").get<double>();
     p.max_distance_m = j.at("max_distance_m").get<double>();
     p.perturb = j.at("perturb").get<bool>();
+    // Libraries from before sleeping have no sleep fields: their worlds never slept.
+    p.sleep = j.value("sleep", false);
+    p.sleep_linear_speed = j.value("sleep_linear_speed", p.sleep_linear_speed);
+    p.sleep_angular_speed = j.value("sleep_angular_speed", p.sleep_angular_speed);
+    p.sleep_delay_s = j.value("sleep_delay_s", p.sleep_delay_s);
     return p;
 }
 

@@ -58,7 +58,7 @@ StoredWorld decode_world_record(const uint8_t* data, size_t size, uint32_t versi
         e.other = in.get<int32_t>();
         e.impulse_ns = in.get<double>();
     }
-    w.checkpoints = read_checkpoints(in);
+    w.checkpoints = read_checkpoints(in, version);
     const size_t metric_count = in.get_count(4 + 4);
     w.metrics.resize(metric_count);
     for (MetricValues& m : w.metrics) {

@@ -15,7 +15,8 @@ namespace mwb {
 /// Record payload layout versions for worlds; a value never changes meaning.
 /// 1: the original layout. 2: adds the refinement lineage (root world, branch steps, bodies).
 /// 3: lineage steps add and remove bodies; the world lists the scene bodies it does not have.
-constexpr uint32_t kWorldRecordVersion = 3;
+/// 4: checkpoints keep each body's quiet time (sleeping).
+constexpr uint32_t kWorldRecordVersion = 4;
 constexpr uint32_t kOldestWorldRecordVersion = 1;
 constexpr uint32_t kRejectionRecordVersion = 1;
 

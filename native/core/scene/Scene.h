@@ -68,6 +68,15 @@ struct Body {
     double collision_margin_m = 0.04;
     double linear_damping = 0.04;   ///< fraction of velocity lost per second (Blender/Bullet)
     double angular_damping = 0.1;
+    /// Blender's Rigid Body > Dynamics > Deactivation (Bullet's sleeping): when enabled, the body
+    /// sleeps below these speeds (after Bullet's 2 s), and with start_deactivated it starts
+    /// asleep, until something reaches it.
+    struct Deactivation {
+        bool enabled = false;
+        bool start_deactivated = false;
+        double linear_speed = 0.4;   ///< m/s
+        double angular_speed = 0.5;  ///< rad/s
+    } deactivation;
     uint32_t collision_collections = 1;  ///< bit i set: member of Blender collision collection i
     Transform initial;
     Vec3 initial_linear_velocity{0, 0, 0};

@@ -305,6 +305,12 @@ void read_body(ObjectReader& o, Body& b) {
     o.optional("collision_margin_m", b.collision_margin_m);
     o.optional("linear_damping", b.linear_damping);
     o.optional("angular_damping", b.angular_damping);
+    read_member(o, "deactivation", [&](ObjectReader& d) {
+        d.optional("enabled", b.deactivation.enabled);
+        d.optional("start_deactivated", b.deactivation.start_deactivated);
+        d.optional("linear_speed", b.deactivation.linear_speed);
+        d.optional("angular_speed", b.deactivation.angular_speed);
+    });
     o.optional("collision_collections", b.collision_collections);
     read_member(o, "initial", [&](ObjectReader& t) { read_transform(t, b.initial); });
     o.optional("initial_linear_velocity", b.initial_linear_velocity);
@@ -498,6 +504,11 @@ OutJson body_json(const Body& b) {
     if (!b.object.empty()) j["object"] = b.object;
     if (b.animated_until_s > 0) j["animated_until_s"] = b.animated_until_s;
     if (b.has_center_of_mass) j["center_of_mass_local_m"] = b.center_of_mass_local_m;
+    if (b.deactivation.enabled || b.deactivation.start_deactivated)
+        j["deactivation"] = {{"enabled", b.deactivation.enabled},
+                             {"start_deactivated", b.deactivation.start_deactivated},
+                             {"linear_speed", b.deactivation.linear_speed},
+                             {"angular_speed", b.deactivation.angular_speed}};
     if (!b.animation.times_s.empty() || !b.animation.transforms.empty()) {
         OutJson transforms = OutJson::array();
         for (const Transform& t : b.animation.transforms) transforms.push_back(transform_json(t));

@@ -251,6 +251,8 @@ void check_body(Checker& check, const Body& body) {
     check.at_least("collision_margin_m", body.collision_margin_m, 0);
     check.fraction("linear_damping", body.linear_damping);
     check.fraction("angular_damping", body.angular_damping);
+    check.at_least("deactivation.linear_speed", body.deactivation.linear_speed, 0);
+    check.at_least("deactivation.angular_speed", body.deactivation.angular_speed, 0);
     if (body.has_center_of_mass) check.finite("center_of_mass_local_m", body.center_of_mass_local_m);
     check_shape(check, "shape", body.shape, active && !body.kinematic, 0);
     check_animation(check, body);

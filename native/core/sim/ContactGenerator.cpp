@@ -5,6 +5,8 @@
 #include <mutex>
 #include <utility>
 
+#include "sim/BodySleep.h"
+
 namespace mwb {
 namespace {
 
@@ -36,6 +38,11 @@ void collect_pair(void* data, dGeomID a, dGeomID b) {
 
 ContactGenerator::ContactGenerator(OdeWorld& world, const BodyActivity& activity) : world_(world), activity_(activity) {}
 
+bool ContactGenerator::stepped(int32_t body) const {
+    return body >= 0 && activity_.simulated(static_cast<size_t>(body)) &&
+           !(sleep_ && sleep_->asleep(static_cast<size_t>(body)));
+}
+
 void ContactGenerator::find_candidate_pairs() {
     candidates_.clear();
     dSpaceCollide(world_.space(), &candidates_, collect_pair);
@@ -59,7 +66,7 @@ void ContactGenerator::collide_pair(const CandidatePair& pair) {
     const GeomOwner& oa = owners[pair.first_index];
     const GeomOwner& ob = owners[pair.second_index];
     if (oa.body == ob.body || oa.ghost || ob.ghost) return;
-    if (!activity_.simulated(oa.body) && !activity_.simulated(ob.body)) return;
+    if (!stepped(oa.body) && !stepped(ob.body)) return;
     if (world_.collision_disabled(oa.body, ob.body)) return;
     dContactGeom contacts[kMaxContactsPerPair];
     int count = collide(pair.first, pair.second, oa.is_mesh || ob.is_mesh, kMaxContactsPerPair, contacts);

@@ -12,6 +12,8 @@
 
 namespace mwb {
 
+class BodySleep;
+
 /// A broad-phase pair, keyed by geom indices (OdeWorld::geom_owners()) so it can be put in a fixed order.
 struct CandidatePair {
     intptr_t first_index, second_index;  ///< first_index < second_index
@@ -38,6 +40,8 @@ public:
     /// Collects this step's broad-phase pairs in geom-index order and forgets the last step's contacts.
     void find_candidate_pairs();
     const std::vector<CandidatePair>& candidate_pairs() const { return candidates_; }
+    /// Sleeping bodies (sim/BodySleep) make no contacts with each other or with fixed bodies.
+    void set_sleep(const BodySleep* sleep) { sleep_ = sleep; }
     /// Adds ODE contact joints (to the world's contact group) for every candidate pair with a
     /// simulated body that may collide, at most four per pair, and notes each body's deepest contact.
     void create_contacts();
@@ -47,6 +51,8 @@ public:
     const DeepestContact& deepest_contact(size_t i) const { return deepest_[i]; }
 
 private:
+    /// Stepped by ODE in this step: simulated and not asleep.
+    bool stepped(int32_t body) const;
     void collide_pair(const CandidatePair& pair);
     /// Drops contacts without a usable normal or depth; returns how many remain.
     static int without_degenerate_contacts(dContactGeom* contacts, int count);
@@ -57,6 +63,7 @@ private:
     OdeWorld& world_;
     const BodyActivity& activity_;
     std::vector<CandidatePair> candidates_;
+    const BodySleep* sleep_ = nullptr;
     std::vector<DeepestContact> deepest_;  ///< per body
 };
 

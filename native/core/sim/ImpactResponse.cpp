@@ -36,6 +36,15 @@ ImpactResponse::ImpactResponse(const CompiledScene& compiled, OdeWorld& world, c
     previous_linear_.resize(n);
     previous_angular_.resize(n);
     rest_since_s_.assign(n, -1.0);
+    quiet_since_s_.assign(n, kNotQuiet);
+    // Blender's Deactivation speeds where a body has it on; the run's (far lower) elsewhere.
+    const SimulationParameters& p = compiled.parameters();
+    for (size_t i = 0; i < n; ++i) {
+        const Body::Deactivation& d = compiled.scene().bodies[i].deactivation;
+        sleep_linear_speed_.push_back(d.enabled ? std::max(p.sleep_linear_speed, d.linear_speed) : p.sleep_linear_speed);
+        sleep_angular_speed_.push_back(d.enabled ? std::max(p.sleep_angular_speed, d.angular_speed) : p.sleep_angular_speed);
+        if (d.start_deactivated) quiet_since_s_[i] = kQuietSinceBeforeStart;
+    }
     impact_partner_.assign(n, kNoImpact);
 }
 
@@ -52,6 +61,7 @@ void ImpactResponse::respond_to_step(const ContactGenerator& contacts, uint64_t 
         if (!activity_.simulated(i)) continue;
         if (activity_.animated(i, step)) {  // driven, not simulated: no impacts, no rest
             rest_since_s_[i] = -1;
+            quiet_since_s_[i] = kNotQuiet;
             continue;
         }
         respond(i, contacts.deepest_contact(i), t_after_s);
@@ -102,6 +112,9 @@ void ImpactResponse::respond(size_t i, const DeepestContact& contact, double t_a
     const bool resting = norm(v) < p.rest_linear_speed && norm(w) < p.rest_angular_speed;
     if (!resting) rest_since_s_[i] = -1;
     else if (rest_since_s_[i] < 0) rest_since_s_[i] = t_after_s;
+    const bool quiet = norm(v) < sleep_linear_speed_[i] && norm(w) < sleep_angular_speed_[i];
+    if (!quiet) quiet_since_s_[i] = kNotQuiet;
+    else if (quiet_since_s_[i] == kNotQuiet) quiet_since_s_[i] = t_after_s;
 }
 
 // Velocity at `point` of body i as the step began (a static body is still).
@@ -132,11 +145,13 @@ bool ImpactResponse::simulated_bodies_at_rest(double t_s) const {
 void ImpactResponse::restart_body(size_t i) {
     impact_partner_[i] = kNoImpact;
     rest_since_s_[i] = -1;
+    quiet_since_s_[i] = kNotQuiet;
 }
 
 void ImpactResponse::save(Checkpoint& checkpoint) const {
     checkpoint.perturbation_random_state = perturbation_random_.state();
     checkpoint.body_rest_since_s = rest_since_s_;
+    checkpoint.body_quiet_since_s = quiet_since_s_;
     checkpoint.body_impact_partner = impact_partner_;
 }
 
@@ -144,6 +159,8 @@ void ImpactResponse::restore(const Checkpoint& checkpoint) {
     perturbation_random_ = PortableRandom(checkpoint.perturbation_random_state);
     std::copy_n(checkpoint.body_rest_since_s.begin(), std::min(checkpoint.body_rest_since_s.size(), rest_since_s_.size()),
                 rest_since_s_.begin());
+    std::copy_n(checkpoint.body_quiet_since_s.begin(),
+                std::min(checkpoint.body_quiet_since_s.size(), quiet_since_s_.size()), quiet_since_s_.begin());
     std::copy_n(checkpoint.body_impact_partner.begin(),
                 std::min(checkpoint.body_impact_partner.size(), impact_partner_.size()), impact_partner_.begin());
 }

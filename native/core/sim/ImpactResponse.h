@@ -37,6 +37,14 @@ public:
     /// Whether every simulated body has rested for the run's rest duration at `t_s`.
     bool simulated_bodies_at_rest(double t_s) const;
 
+    /// Since when body i has stayed below its sleep speeds (sim/BodySleep); kNotQuiet while it
+    /// moves. A body set to start deactivated has been quiet since long before the start.
+    double quiet_since_s(size_t i) const { return quiet_since_s_[i]; }
+    static constexpr double kNotQuiet = -1.0;
+    /// A body woken at `t_s` counts as quiet from then on, as Bullet restarts a woken body's
+    /// deactivation time: it must stay quiet for the whole delay again before it sleeps.
+    void restart_quiet(size_t i, double t_s) { quiet_since_s_[i] = t_s; }
+    static constexpr double kQuietSinceBeforeStart = -1.0e9;
     /// Refinement: body i is simulated anew, with no collision under way and not at rest.
     void restart_body(size_t i);
     /// Refinement: perturbations draw from the stream with `seed` from now on.
@@ -65,6 +73,8 @@ private:
     std::vector<double> linear_damping_factor_, angular_damping_factor_;  ///< per body, per step
     std::vector<Vec3> previous_linear_, previous_angular_;                ///< per body, before the step
     std::vector<double> rest_since_s_;    ///< per body, -1 while moving
+    std::vector<double> quiet_since_s_;   ///< per body, kNotQuiet while above its sleep speeds
+    std::vector<double> sleep_linear_speed_, sleep_angular_speed_;  ///< per body
     std::vector<int32_t> impact_partner_;  ///< per body, kNoImpact after a quiet step
     std::vector<ContactEvent> collisions_;
     uint32_t impacts_perturbed_ = 0;

@@ -34,6 +34,13 @@ struct SimulationParameters {
     double max_distance_m = 10000;
     /// Record and perturb; off gives the unperturbed reference simulation.
     bool perturb = true;
+    /// Sleeping (sim/BodySleep): a body below these speeds for the delay stops being stepped until
+    /// an awake body reaches it. Thresholds as in the original sampler (0.001), so a sleeping body
+    /// would have moved less than the codec's error bound.
+    bool sleep = true;
+    double sleep_linear_speed = 0.001;   ///< m/s
+    double sleep_angular_speed = 0.01;   ///< rad/s
+    double sleep_delay_s = 0.5;
 };
 
 /// Seconds every world of a run covers: `duration_s` when set, else the scene's frame range.

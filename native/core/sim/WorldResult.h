@@ -37,6 +37,7 @@ struct Checkpoint {
     uint64_t ode_random_state = 0;         ///< ODE's constraint-ordering generator
     std::array<uint64_t, 4> perturbation_random_state{};
     std::vector<double> body_rest_since_s; ///< per body, -1 when moving
+    std::vector<double> body_quiet_since_s; ///< per body, below the sleep speeds since; -1 if not
     /// Per body: the partner of the impact under way in the previous step, kNoImpact if none.
     std::vector<int32_t> body_impact_partner;
 };

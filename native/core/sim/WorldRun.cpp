@@ -43,6 +43,7 @@ WorldRun::WorldRun(const CompiledScene& compiled, uint64_t base_seed, uint64_t w
       contacts_(world_, activity_),
       impacts_(compiled, world_, activity_,
                derive_stream_seed(derive_world_seed(base_seed, world_index), kPerturbationStream)),
+      sleep_(compiled, world_, activity_, impacts_),
       kinematics_(compiled, world_, activity_),
       replay_(compiled, base_seed, world_, activity_, impacts_),
       recorder_(compiled, world_, activity_, impacts_, replay_) {
@@ -52,6 +53,8 @@ WorldRun::WorldRun(const CompiledScene& compiled, uint64_t base_seed, uint64_t w
     result_.record_hz = compiled.parameters().record_hz;
     result_.step_hz = compiled.step_hz();
     result_.body_count = static_cast<uint32_t>(compiled.bodies().size());
+    contacts_.set_sleep(&sleep_);
+    sleep_.restore(0, 0.0);
 }
 
 void WorldRun::restore(const Checkpoint& checkpoint) {
@@ -64,6 +67,7 @@ void WorldRun::restore(const Checkpoint& checkpoint) {
         if (checkpoint.joint_broken[i] && !groups[i].joints.empty()) world_.break_joint(i);
     ode_random_state_ = checkpoint.ode_random_state;
     impacts_.restore(checkpoint);
+    sleep_.restore(step_, compiled_.step_time_s(step_));
     recorder_.resume_from(checkpoint);
 }
 
@@ -114,6 +118,7 @@ void WorldRun::step_once() {
     kinematics_.drive(step_, t);
     contacts_.find_candidate_pairs();
     if (replay_.active()) replay_.activate_touched_bodies(contacts_, step_);
+    sleep_.wake_touched(contacts_, step_);
     contacts_.create_contacts();
     impacts_.capture_velocities_before_step();
     {
@@ -123,6 +128,7 @@ void WorldRun::step_once() {
     dJointGroupEmpty(world_.contact_group());
     impacts_.respond_to_step(contacts_, step_, compiled_.step_time_s(step_ + 1));
     world_.break_overloaded_joints();
+    sleep_.settle(step_, compiled_.step_time_s(step_ + 1));
 }
 
 bool WorldRun::at_rest(double t_s) const {

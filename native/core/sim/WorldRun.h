@@ -7,6 +7,7 @@
 
 #include "sim/BodyInitialState.h"
 #include "sim/BodyActivity.h"
+#include "sim/BodySleep.h"
 #include "sim/CompiledScene.h"
 #include "sim/ContactGenerator.h"
 #include "sim/ImpactResponse.h"
@@ -35,7 +36,9 @@ public:
     void plan_refinements(const std::vector<RefineStep>& steps, const std::vector<const WorldResult*>& parents);
     /// Runs to the end, to rest, to rejection or until `cancel` (optional, polled every recorded
     /// frame) is set.
-    WorldResult run(const std::atomic<bool>* cancel);
+    WorldResult run(const std::atomic<bool>* cancel = nullptr);
+    /// Body-steps not stepped because the body slept (sim/BodySleep), so far.
+    uint64_t sleeping_body_steps() const { return sleep_.sleeping_body_steps(); }
 
 private:
     /// The bodies a world has (per scene body, 1 if present) and their starting states.
@@ -59,6 +62,7 @@ private:
     BodyActivity activity_;
     ContactGenerator contacts_;
     ImpactResponse impacts_;
+    BodySleep sleep_;
     KinematicDriver kinematics_;
     RefinementReplay replay_;
     WorldRecorder recorder_;
