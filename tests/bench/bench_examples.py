@@ -2,7 +2,8 @@
 and frame range against our time per world when sampling many worlds on all cores, side by side.
 
 blender -b blend_examples/NAME/NAME.blend --python tests/bench/bench_examples.py -- WORLDS
-Prints a table and `BENCH sample_worlds_per_min_NAME` and `BENCH bullet_speedup_NAME`.
+Prints a table and `BENCH sample_worlds_per_min_NAME`, `BENCH bullet_speedup_NAME` and
+`BENCH sleep_speedup_NAME` (the same sampling with sleeping off, divided by on).
 Both sides simulate the whole frame range (the engine without stopping at rest).
 """
 import os
@@ -35,10 +36,10 @@ def bullet_bake_seconds(scene):
     return elapsed
 
 
-def engine_seconds_per_world(scene_json, worlds, folder):
-    library = os.path.join(folder, "bench.mwb")
+def engine_seconds_per_world(scene_json, worlds, folder, sleep=True):
+    library = os.path.join(folder, f"bench_{'sleep' if sleep else 'awake'}.mwb")
     command = [paths.engine_path(), "sample", "--scene", scene_json, "--out", library, "--worlds", f"0:{worlds}",
-               "--no-stop-at-rest", "--threads", str(os.cpu_count())]
+               "--no-stop-at-rest", "--threads", str(os.cpu_count())] + ([] if sleep else ["--no-sleep"])
     start = time.perf_counter()
     subprocess.run(command, check=True, capture_output=True)
     return (time.perf_counter() - start) / worlds
@@ -56,12 +57,15 @@ def main():
         with open(scene_json, "w") as f:
             f.write(result.to_json())
         ours = engine_seconds_per_world(scene_json, worlds, folder)
+        awake = engine_seconds_per_world(scene_json, worlds, folder, sleep=False)
     bullet = bullet_bake_seconds(bpy.context.scene)
     frames = bpy.context.scene.frame_end - bpy.context.scene.frame_start + 1
     print(f"{name}: {frames} frames; Bullet bake {bullet:.3f} s per world (1 thread); "
-          f"ours {ours:.3f} s per world sampling {worlds} worlds on {os.cpu_count()} cores")
+          f"ours {ours:.3f} s per world sampling {worlds} worlds on {os.cpu_count()} cores "
+          f"({awake:.3f} s without sleeping)")
     print(f"BENCH sample_worlds_per_min_{name} {60.0 / ours:.6g}")
     print(f"BENCH bullet_speedup_{name} {bullet / ours:.6g}")
+    print(f"BENCH sleep_speedup_{name} {awake / ours:.6g}")
 
 
 main()

@@ -45,73 +45,21 @@ mkdir -p "$(dirname "$CHROOT")"
 exec 9>"$CHROOT.lock"
 flock 9
 
-# The Debian mirror this machine already uses (deb822 or one-line sources), else Debian's own.
-debian_mirror() {
-    sed -n -e 's/^URIs:[[:space:]]*\([^[:space:]]*\/debian\)\/*$/\1/p' \
-        -e 's/^deb[[:space:]]\{1,\}\(http[^[:space:]]*\/debian\)\/*[[:space:]].*/\1/p' \
-        /etc/apt/sources.list.d/*.sources /etc/apt/sources.list.d/*.list /etc/apt/sources.list 2>/dev/null |
-        head -n 1
+. "$ROOT/native/release/debian_chroot.sh"
+in_trixie() {
+    in_chroot "$CHROOT" "$@"
 }
 
-in_chroot() {
-    chroot "$CHROOT" /usr/bin/env -i PATH=/usr/sbin:/usr/bin:/sbin:/bin HOME=/root LANG=C.UTF-8 \
-        DEBIAN_FRONTEND=noninteractive "$@"
-}
-
-# --- 1. the chroot -------------------------------------------------------------------------------
-# debootstrap writes into a side folder and renames it when done, so an interrupted run never
-# leaves a half-made chroot where the next run would take it for a finished one.
-if [ ! -x "$CHROOT/usr/bin/apt-get" ] || [ -d "$CHROOT/debootstrap" ]; then
-    step "debootstrap Debian 13 into $CHROOT"
-    if ! command -v debootstrap >/dev/null 2>&1; then
-        apt-get install -y -qq debootstrap >/dev/null 2>&1 || skip "debootstrap is not installed and apt-get cannot install it"
-    fi
-    mirror=$(debian_mirror)
-    partial="$CHROOT.partial"
-    if grep -q " $partial/" /proc/mounts; then
-        echo "blender4: something is still mounted under $partial; not removing it"
-        exit 1
-    fi
-    rm -rf "$partial"
-    debootstrap --variant=minbase trixie "$partial" "${mirror:-http://deb.debian.org/debian}" \
-        > "$CHROOT.debootstrap.log" 2>&1 || skip "debootstrap failed (see $CHROOT.debootstrap.log)"
-    [ ! -e "$CHROOT" ] || rmdir "$CHROOT" 2>/dev/null || {
-        echo "blender4: $CHROOT exists but is not a finished chroot; remove it and run again"
-        exit 1
-    }
-    mv "$partial" "$CHROOT"
-    step_done debootstrap
-fi
-
-missing=""
-for p in $PACKAGES; do
-    in_chroot dpkg-query -W -f='${db:Status-Abbrev}' "$p" 2>/dev/null | grep -q '^ii' || missing="$missing $p"
-done
-if [ -n "$missing" ]; then
-    step "apt-get install in the chroot:$missing"
-    cp /etc/resolv.conf "$CHROOT/etc/resolv.conf"
-    in_chroot apt-get update -qq
-    in_chroot apt-get install -y -qq --no-install-recommends $missing > "$CHROOT.apt.log" 2>&1 || {
-        tail -n 30 "$CHROOT.apt.log"
-        exit 1
-    }
-    step_done apt
-fi
+# --- 1. the chroot (debootstrapped when missing, the packages it lacks installed) ---------------
+step "the Debian 13 chroot in $CHROOT"
+ensure_chroot "$CHROOT" trixie "$PACKAGES" || skip "the Debian 13 chroot could not be prepared"
+step_done chroot
 
 # --- mounts: /proc (Blender prints nothing useful without it) and this checkout at its own path,
 # so paths are the same inside and out. Unmounted on any exit.
-unmount_all() {
-    for m in "$CHROOT$ROOT" "$CHROOT/proc"; do
-        if mountpoint -q "$m"; then
-            umount "$m" || umount -l "$m"
-        fi
-    done
-}
-trap unmount_all EXIT
+trap 'unmount_checkout "$CHROOT" "$ROOT"' EXIT
 trap 'exit 130' INT TERM
-mkdir -p "$CHROOT$ROOT"
-mountpoint -q "$CHROOT/proc" || mount -t proc proc "$CHROOT/proc"
-mountpoint -q "$CHROOT$ROOT" || mount --bind "$ROOT" "$CHROOT$ROOT"
+mount_checkout "$CHROOT" "$ROOT"
 
 # --- 2. the native module for Python 3.13 --------------------------------------------------------
 # MWB_ADDON_ENGINE_DIR is empty so this build never replaces the host's engine in the add-on. ODE
@@ -127,8 +75,8 @@ step_done build
 
 status=0
 # --- 3. the in-Blender suite ---------------------------------------------------------------------
-step "tests/blender in Blender $(in_chroot blender --version 2>/dev/null | head -n 1)"
-in_chroot sh -c "cd '$ROOT' && blender -b --factory-startup --python-exit-code 1 \
+step "tests/blender in Blender $(in_trixie blender --version 2>/dev/null | head -n 1)"
+in_trixie sh -c "cd '$ROOT' && blender -b --factory-startup --python-exit-code 1 \
     --python tests/blender/run.py -- tests/blender" || {
     echo "== blender4: FAILED tests/blender"
     status=1
@@ -138,7 +86,7 @@ step_done "tests/blender"
 # --- 4. the real UI under Xvfb -------------------------------------------------------------------
 step "tests/viewport under Xvfb"
 for test in "$ROOT"/tests/viewport/test_*.py; do
-    in_chroot MWB_VIEWPORT_OUT="$BUILD/viewport" sh "$ROOT/tests/viewport/run.sh" "$(basename "$test")" || {
+    in_trixie MWB_VIEWPORT_OUT="$BUILD/viewport" sh "$ROOT/tests/viewport/run.sh" "$(basename "$test")" || {
         echo "== blender4: FAILED tests/viewport/$(basename "$test")"
         status=1
     }
@@ -147,7 +95,7 @@ step_done "tests/viewport"
 
 # --- 5. the extension ----------------------------------------------------------------------------
 step "extension: build, validate, install, enable"
-in_chroot sh "$ROOT/tests/blender4/extension_check.sh" "$BUILD/extension" || {
+in_trixie sh "$ROOT/tests/blender4/extension_check.sh" "$BUILD/extension" || {
     echo "== blender4: FAILED extension check"
     status=1
 }
