@@ -55,8 +55,12 @@ def test_sampling_again_adds_the_next_worlds(tmp_path):
 
 
 def sample_then_cancel(tmp_path, count):
-    """Press Sample for `count` slow worlds (10 s each, one thread) and Cancel once two are stored."""
-    drop_scene(bodies=2, frame_end=240)
+    """Press Sample for `count` slow worlds (30 s each, one thread) and Cancel once two are stored.
+    The boxes bounce without losing energy, so they never rest or sleep: every world takes its time."""
+    ground, boxes = drop_scene(bodies=4, frame_end=720)
+    for ob in [ground, *boxes]:
+        ob.rigid_body.restitution = 1.0
+        ob.rigid_body.linear_damping = ob.rigid_body.angular_damping = 0.0
     save_blend(tmp_path)
     mwb = bpy.context.scene.mwb
     mwb.world_count, mwb.threads, mwb.stop_at_rest = count, 1, False
