@@ -75,18 +75,19 @@ int main(int argc, char** argv) {
     reject.negative = true;
     reject.bodies = all;
     const std::vector<QueryBox> boxes{keep, reject};
-    auto time_query = [&](bool brute) {
+    auto time_query = [&](bool brute, int threads = 1) {
         double best = 1e9;
         size_t matches = 0;
         for (int repeat = 0; repeat < 5; ++repeat) {
             start = std::chrono::steady_clock::now();
-            matches = index.query(boxes, 0, brute).matching.size();
+            matches = index.query(boxes, 0, brute, threads).matching.size();
             best = std::min(best, seconds_since(start));
         }
         return std::make_pair(best, matches);
     };
     const auto [tree_s, tree_matches] = time_query(false);
     const auto [brute_s, brute_matches] = time_query(true);
+    const auto [tree2_s, tree2_matches] = time_query(false, 2);
     if (tree_matches != brute_matches) {
         std::printf("tree and brute force disagree: %zu vs %zu\n", tree_matches, brute_matches);
         return 1;
@@ -95,5 +96,8 @@ int main(int argc, char** argv) {
            "1 thread; positive box on 3 bodies + negative box on all (target < 16 ms); " +
                std::to_string(tree_matches) + " matches");
     report("obb_speedup", brute_s / tree_s, "x", "brute force / tree, same query (target >= 5)");
+    report("query_ms_" + size + "_2t", tree2_s * 1000, "ms",
+           "2 threads, same query; " + std::to_string(tree2_matches) + " matches");
+    report("query_speedup_2t", tree_s / tree2_s, "x", "1 thread / 2 threads, same query");
     return 0;
 }

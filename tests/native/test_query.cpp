@@ -275,6 +275,25 @@ TEST(PathIndex, WorldsThatEndedEarlyAreSeenAtRestByTimeWindows) {
     }
 }
 
+TEST(PathIndex, QueriesGiveTheSameAnswerOnOneAndTwoThreads) {
+    PathIndex index({0.1, 0.5});
+    fill_small_index(index, 300);  // worlds 0..299 move along x = w + 0.5
+    QueryBox ordered = box_over_x(-21, -19, false, {1});
+    ordered.after = 0;
+    for (const std::vector<QueryBox>& boxes :
+         {std::vector<QueryBox>{box_over_x(2, 9, false, {0}), box_over_x(5, 6, true, {0})},
+          std::vector<QueryBox>{box_over_x(100, 120, false, {0}), ordered}}) {
+        const QueryResult one = index.query(boxes, 0, false, 1);
+        const QueryResult two = index.query(boxes, 0, false, 2);
+        EXPECT_EQ(one.world_indices, two.world_indices);
+        EXPECT_EQ(one.boxes_satisfied, two.boxes_satisfied);
+        EXPECT_EQ(one.matching, two.matching);
+        EXPECT_FALSE(one.matching.empty());
+    }
+    EXPECT_EQ(index.query({box_over_x(2, 9, false, {0}), box_over_x(5, 6, true, {0})}, 0, false, 2).matching,
+              (std::vector<uint64_t>{2, 3, 4, 6, 7, 8}));
+}
+
 TEST(PathIndex, ANewerQuerySupersedesARunningOne) {
     PathIndex index({0.1, 0.5});
     fill_small_index(index, 200);

@@ -132,29 +132,43 @@ bool PathIndex::world_satisfies(const World& world, const QueryBox& box, bool br
     return entered != box.negative;
 }
 
-QueryResult PathIndex::query(const std::vector<QueryBox>& boxes, uint64_t generation, bool brute_force) const {
+QueryResult PathIndex::query(const std::vector<QueryBox>& boxes, uint64_t generation, bool brute_force,
+                             int threads) const {
     const std::vector<const World*> worlds = snapshot();
     const bool ordered = std::any_of(boxes.begin(), boxes.end(), [](const QueryBox& b) { return b.after >= 0; });
     const std::vector<size_t> order = goal_order(boxes);
     for (const QueryBox& box : boxes)
         for (uint32_t body : box.bodies)
             if (body >= body_radii_m_.size()) throw std::out_of_range("query box names body " + std::to_string(body));
-    QueryResult result;
-    result.world_indices.reserve(worlds.size());
-    result.boxes_satisfied.reserve(worlds.size());
-    for (size_t k = 0; k < worlds.size(); ++k) {
+    // Each world's count is written to its own slot and the answer is assembled in world order,
+    // so the result does not depend on the thread count.
+    std::vector<uint32_t> satisfied(worlds.size(), 0);
+    std::atomic<bool> superseded{false};
+    const int thread_count = threads > 0 ? threads : omp_get_max_threads();
+    const auto count = static_cast<std::ptrdiff_t>(worlds.size());
+#pragma omp parallel for num_threads(thread_count) schedule(dynamic, 64)
+    for (std::ptrdiff_t k = 0; k < count; ++k) {
         // Checking every 64 worlds keeps the atomic off the hot path yet stops within ~0.1 ms.
-        if (generation != 0 && k % 64 == 0 && latest_generation_.load(std::memory_order_relaxed) > generation) {
-            result.superseded = true;
-            break;
-        }
-        uint32_t satisfied = 0;
-        if (ordered) satisfied = score_goal(worlds[k]->paths, body_radii_m_, boxes, order, false).boxes_met;
+        if (k % 64 == 0 && generation != 0 && latest_generation_.load(std::memory_order_relaxed) > generation)
+            superseded.store(true, std::memory_order_relaxed);
+        if (superseded.load(std::memory_order_relaxed)) continue;
+        const World& world = *worlds[static_cast<size_t>(k)];
+        uint32_t met = 0;
+        if (ordered) met = score_goal(world.paths, body_radii_m_, boxes, order, false).boxes_met;
         else
-            for (const QueryBox& box : boxes) satisfied += world_satisfies(*worlds[k], box, brute_force);
+            for (const QueryBox& box : boxes) met += world_satisfies(world, box, brute_force);
+        satisfied[static_cast<size_t>(k)] = met;
+    }
+    QueryResult result;
+    if (superseded.load()) {
+        result.superseded = true;
+        return result;
+    }
+    result.world_indices.reserve(worlds.size());
+    result.boxes_satisfied = std::move(satisfied);
+    for (size_t k = 0; k < worlds.size(); ++k) {
         result.world_indices.push_back(worlds[k]->world_index);
-        result.boxes_satisfied.push_back(satisfied);
-        if (satisfied == boxes.size()) result.matching.push_back(worlds[k]->world_index);
+        if (result.boxes_satisfied[k] == boxes.size()) result.matching.push_back(worlds[k]->world_index);
     }
     return result;
 }

@@ -65,10 +65,12 @@ public:
     size_t memory_bytes() const;
 
     /// Evaluates boxes (combined by AND, ordered boxes in their order, see GoalScore.h) over every
-    /// indexed world, on the calling thread. Throws std::invalid_argument for a bad order.
-    /// If post_generation() is called with a newer number while it runs, it stops early and
-    /// returns superseded. `brute_force` skips the trees (for tests and benchmarks).
-    QueryResult query(const std::vector<QueryBox>& boxes, uint64_t generation = 0, bool brute_force = false) const;
+    /// indexed world, split over `threads` (<= 0: all cores); the answer is the same on any
+    /// number. Throws std::invalid_argument for a bad order. If post_generation() is called with a
+    /// newer number while it runs, it stops early and returns superseded. `brute_force` skips the
+    /// trees (for tests and benchmarks).
+    QueryResult query(const std::vector<QueryBox>& boxes, uint64_t generation = 0, bool brute_force = false,
+                      int threads = 0) const;
     /// Announces that query `generation` is the one that matters now.
     void post_generation(uint64_t generation) { latest_generation_.store(generation); }
 
