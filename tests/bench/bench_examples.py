@@ -45,9 +45,9 @@ def engine_seconds_per_world(scene_json, worlds, folder, sleep=True):
     return (time.perf_counter() - start) / worlds
 
 
-def main():
-    worlds = int(sys.argv[sys.argv.index("--") + 1]) if "--" in sys.argv else 16
-    name = os.path.splitext(os.path.basename(bpy.data.filepath))[0]
+def measure(name, worlds):
+    """Times Blender's bake of the open scene against our sampling of it (with and without
+    sleeping) and prints the figures; shared with bench_fracture.py."""
     many_worlds.register()
     result, problems = export_and_validate(bpy.context)
     if result.scene is None or problems:
@@ -68,4 +68,6 @@ def main():
     print(f"BENCH sleep_speedup_{name} {awake / ours:.6g}")
 
 
-main()
+if __name__ == "__main__":
+    measure(os.path.splitext(os.path.basename(bpy.data.filepath))[0],
+            int(sys.argv[sys.argv.index("--") + 1]) if "--" in sys.argv else 16)
