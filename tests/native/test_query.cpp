@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cmath>
 #include <set>
@@ -292,6 +293,15 @@ TEST(PathIndex, QueriesGiveTheSameAnswerOnOneAndTwoThreads) {
     }
     EXPECT_EQ(index.query({box_over_x(2, 9, false, {0}), box_over_x(5, 6, true, {0})}, 0, false, 2).matching,
               (std::vector<uint64_t>{2, 3, 4, 6, 7, 8}));
+    // Rankings too: collision_count of body 0 is w % 3, so ties abound and must keep world order.
+    omp_set_num_threads(1);
+    const auto ranked_one = index.rank("collision_count", {0}, Combine::Sum, true);
+    omp_set_num_threads(2);
+    const auto ranked_two = index.rank("collision_count", {0}, Combine::Sum, true);
+    EXPECT_EQ(ranked_one, ranked_two);
+    ASSERT_EQ(ranked_two.size(), 300u);
+    EXPECT_EQ(ranked_two[0], std::make_pair(uint64_t{2}, 2.0));
+    EXPECT_EQ(ranked_two[1], std::make_pair(uint64_t{5}, 2.0));
 }
 
 TEST(PathIndex, ANewerQuerySupersedesARunningOne) {

@@ -180,28 +180,44 @@ std::vector<std::pair<uint64_t, double>> PathIndex::rank(const std::string& metr
     const bool to_goal = metric == "orientation_to_goal_rad";
     if (to_goal && (!goals || goals->size() != bodies.size()))
         throw std::invalid_argument("orientation_to_goal_rad needs one goal orientation per body");
-    std::vector<std::pair<uint64_t, double>> ranked;
-    for (const World* world : snapshot()) {
-        if (only && !std::binary_search(only->begin(), only->end(), world->world_index)) continue;
+    for (uint32_t body : bodies)
+        if (body >= body_radii_m_.size()) throw std::out_of_range("ranking names body " + std::to_string(body));
+    std::vector<const World*> worlds;
+    for (const World* world : snapshot())
+        if (!only || std::binary_search(only->begin(), only->end(), world->world_index)) worlds.push_back(world);
+    if (!to_goal)
+        for (const World* world : worlds)
+            if (std::find(world->metric_names.begin(), world->metric_names.end(), metric) == world->metric_names.end())
+                throw std::invalid_argument("unknown metric '" + metric + "'");
+    // One slot per world, filled on all cores, then gathered in world order: the same ranking on
+    // any number of threads.
+    std::vector<double> combined(worlds.size(), 0.0);
+    std::vector<uint8_t> ranked_here(worlds.size(), 0);
+    const auto count = static_cast<std::ptrdiff_t>(worlds.size());
+#pragma omp parallel for schedule(dynamic, 64)
+    for (std::ptrdiff_t w = 0; w < count; ++w) {
+        const World& world = *worlds[static_cast<size_t>(w)];
         const std::vector<double>* values = nullptr;
         if (!to_goal) {
-            const auto it = std::find(world->metric_names.begin(), world->metric_names.end(), metric);
-            if (it == world->metric_names.end()) throw std::invalid_argument("unknown metric '" + metric + "'");
-            values = &world->metric_values[static_cast<size_t>(it - world->metric_names.begin())];
+            const auto it = std::find(world.metric_names.begin(), world.metric_names.end(), metric);
+            values = &world.metric_values[static_cast<size_t>(it - world.metric_names.begin())];
         }
-        double combined = combine == Combine::Sum ? 0.0 : -std::numeric_limits<double>::infinity();
+        double value = combine == Combine::Sum ? 0.0 : -std::numeric_limits<double>::infinity();
         size_t counted = 0;
         for (size_t k = 0; k < bodies.size(); ++k) {
-            if (bodies[k] >= body_radii_m_.size()) throw std::out_of_range("ranking names body " + std::to_string(bodies[k]));
             // A world is ranked over the bodies it has (bodies can be added and removed).
-            if (bodies[k] >= world->paths.size() || world->paths[bodies[k]].point_count() == 0) continue;
-            const double v = to_goal ? quat_angle_between(world->final_orientations[bodies[k]], (*goals)[k])
+            if (bodies[k] >= world.paths.size() || world.paths[bodies[k]].point_count() == 0) continue;
+            const double v = to_goal ? quat_angle_between(world.final_orientations[bodies[k]], (*goals)[k])
                                      : (*values)[bodies[k]];
-            combined = combine == Combine::Sum ? combined + v : std::max(combined, v);
+            value = combine == Combine::Sum ? value + v : std::max(value, v);
             ++counted;
         }
-        if (counted > 0 || bodies.empty()) ranked.emplace_back(world->world_index, combined);
+        combined[static_cast<size_t>(w)] = value;
+        ranked_here[static_cast<size_t>(w)] = counted > 0 || bodies.empty();
     }
+    std::vector<std::pair<uint64_t, double>> ranked;
+    for (size_t w = 0; w < worlds.size(); ++w)
+        if (ranked_here[w]) ranked.emplace_back(worlds[w]->world_index, combined[w]);
     // Ties keep world order, so a ranking is reproducible.
     std::stable_sort(ranked.begin(), ranked.end(), [descending](const auto& a, const auto& b) {
         return descending ? a.second > b.second : a.second < b.second;
