@@ -7,7 +7,8 @@ import gpu
 IS_4 = bpy.app.version >= (4, 0, 0)
 
 # Blender 3.4 accepts both spellings; 4.x only the short ones. Resolved once at import.
-_SHADER_NAMES = {"UNIFORM_COLOR": "3D_UNIFORM_COLOR", "POLYLINE_UNIFORM_COLOR": "3D_POLYLINE_UNIFORM_COLOR"}
+_SHADER_NAMES = {"UNIFORM_COLOR": "3D_UNIFORM_COLOR", "POLYLINE_UNIFORM_COLOR": "3D_POLYLINE_UNIFORM_COLOR",
+                 "POLYLINE_FLAT_COLOR": "3D_POLYLINE_FLAT_COLOR"}
 
 
 def builtin_shader(name):

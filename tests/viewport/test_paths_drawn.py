@@ -7,7 +7,8 @@ The add-on reopens the library on load (load_post). Screenshots of the window ar
 paths on, with a world selected, with the selected world's paths drawn alone, with the paths off
 and with no world selected; the 3D viewport's pixels must show each box's path colour (and the
 selected world's colour) only while drawing is on. The selected world must show (nearly) as many pixels
-among the other paths as alone: it is drawn on top. The label naming the selected world (in the
+among the other paths as alone: it is drawn on top. With a budget of a quarter of the vertices, fewer
+paths are drawn and the panel's line names the subset; plain redraws do not rebuild the batches. The label naming the selected world (in the
 selected world's colour, bottom-left) must be drawn there only while a world is selected.
 Exit code 0 = pass.
 """
@@ -21,7 +22,7 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 from many_worlds.core.session import SESSION  # noqa: E402
-from many_worlds.core import palette  # noqa: E402
+from many_worlds.core import palette, path_budget  # noqa: E402
 from many_worlds.draw import paths, world_label  # noqa: E402
 from viewport_helpers import colour_mask, viewport  # noqa: E402
 import viewport_helpers  # noqa: E402
@@ -74,12 +75,26 @@ def steps():
     area.tag_redraw()
     yield
     results["paths_on"] = counts(screenshot("paths_on.png"))
+    # Plain redraws reuse the batches.
+    rebuilds = paths.OVERLAY.rebuilds
+    for _ in range(3):
+        area.tag_redraw()
+        yield
+    results["rebuilds_on_redraw"] = paths.OVERLAY.rebuilds - rebuilds
+    # A budget of a quarter of the vertices: fewer paths drawn, and the panel's line.
+    paths.OVERLAY.vertex_budget = paths.OVERLAY.arrays.vertex_count // 4
+    area.tag_redraw()
+    yield
+    results["budget"] = counts(screenshot("budget.png"))
+    results["budget_text"] = paths.OVERLAY.budget_text()
+    results["budget_vertices"] = [paths.OVERLAY.arrays.vertex_count, paths.OVERLAY.vertex_budget]
+    paths.OVERLAY.vertex_budget = path_budget.VERTEX_BUDGET
     bpy.ops.mwb.select_world(world=SESSION.view.world_indices[0])
     area.tag_redraw()
     yield
     results["world_selected"] = counts(screenshot("world_selected.png"))
     # The selected world's batch alone (the cache keeps it until its inputs change).
-    paths.OVERLAY._batches = [b for b in paths.OVERLAY._batches if b[3]]
+    paths.OVERLAY._batches = [b for b in paths.OVERLAY._batches if b[2]]
     area.tag_redraw()
     yield
     results["selected_alone"] = counts(screenshot("selected_alone.png"))
@@ -114,11 +129,16 @@ def steps():
     assert results["paths_on"]["matching"] > 300, results
     # Each box's paths in its own colour, and no paths in a colour no object has.
     assert min(results["paths_on"]["objects"][:3]) > 300 and results["paths_on"]["objects"][3] < 20, results
+    assert results["rebuilds_on_redraw"] == 0, results
     assert results["world_selected"]["selected"] > 100, results
     # Neither the other paths nor the scene hide the selected world: it shows as among none.
     assert results["world_selected"]["selected"] > 0.9 * results["selected_alone"]["selected"], results
     # The others are dimmed while a world is selected: few pixels keep the full matching colour.
     assert results["world_selected"]["matching"] < 0.5 * results["paths_on"]["matching"], results
+    budget_objects, all_objects = sum(results["budget"]["objects"]), sum(results["paths_on"]["objects"])
+    assert 0.05 * all_objects < budget_objects < 0.8 * all_objects, results
+    assert results["budget_text"].startswith("Showing ") and results["budget_text"].endswith("(drawing budget)")
+    assert results["budget_vertices"][0] <= results["budget_vertices"][1], results
     assert results["paths_off"]["matching"] < 20 and results["paths_off"]["selected"] < 20, results
     # The label: drawn with a world selected (paths on or off), gone without one.
     assert results["paths_on"]["label"] < 5 and results["none_selected"]["label"] < 5, results

@@ -1,40 +1,56 @@
-"""The path overlay: every sampled path of the chosen bodies in the 3D viewport.
+"""The path overlay: the sampled paths of the chosen bodies in the 3D viewport, within a budget of
+vertices (core.path_budget decides which paths, how thinned, and their colours).
 
 Each object's paths have its own colour (core.palette; the panel's legend names them). Matching
 worlds are drawn bright, the others faint and greyed (and, with Family of Selected World on, every
 world outside that family). While a world is selected, the other paths are dimmed and the selected
 world's paths are drawn last without depth test, so neither other paths nor the scene's geometry
 hide them: a cyan band twice as wide with the objects' colours along its middle. A body is drawn
-only in the worlds it exists in (bodies can be added to and removed from worlds). Batches are
-cached and rebuilt only when the library's data or match state (LibraryView.version), the chosen
-bodies or the selected world change; per-world line segments are cached too, so a new world
-costs only its own arrays.
+only in the worlds it exists in (bodies can be added to and removed from worlds).
+
+Batches are built off the draw callback and reused between redraws: a timer compares their inputs
+(the library's data and match state, LibraryView.version; the chosen and selected bodies; the
+selected world; the budget) with those of the batches every POLL_S and, when they differ, rebuilds
+them and redraws the 3D views; the draw callback only draws. The thinned line segments of the last
+build are reused by the next.
 """
+import traceback
+
 import bpy
 import gpu
 import numpy as np
 from gpu_extras.batch import batch_for_shader
 
 from .. import compat
-from ..core import arrays, palette
+from ..core import palette, path_budget
 from ..core.session import SESSION
 from .overlay import ViewportOverlay
 
-SELECTED_COLOR = (0.1, 0.85, 1.0, 1.0)
-# While a world is selected, the other paths' alpha is scaled by this, so the selected one stands out.
-DIMMED_ALPHA = 0.35
+SELECTED_COLOR = path_budget.SELECTED_COLOR
 SELECTED_WIDTH = 2.0
+# Seconds between checks of the batches' inputs (a change shows within this and one redraw).
+POLL_S = 0.05
 
 
-def dimmed(colour):
-    return colour[:3] + (colour[3] * DIMMED_ALPHA,)
+def selected_bodies(context, view):
+    """Indices of the bodies of the selected objects."""
+    selected = {ob.name for ob in context.view_layer.objects.selected}
+    return tuple(i for i, name in enumerate(view.body_names) if name in selected)
 
 
 def chosen_bodies(context, view):
     if context.scene.mwb.path_bodies == "SELECTED":
-        selected = {ob.name for ob in context.selected_objects}
-        return tuple(i for i, name in enumerate(view.body_names) if name in selected)
+        return selected_bodies(context, view)
     return tuple(view.simulated_bodies())
+
+
+def tag_redraw_views():
+    """Redraw the 3D views (their sidebars show the budget's line)."""
+    wm = bpy.context.window_manager
+    for window in (wm.windows if wm else []):
+        for area in window.screen.areas:
+            if area.type == "VIEW_3D":
+                area.tag_redraw()
 
 
 class PathOverlay(ViewportOverlay):
@@ -42,91 +58,114 @@ class PathOverlay(ViewportOverlay):
 
     def __init__(self):
         super().__init__()
+        self.vertex_budget = path_budget.VERTEX_BUDGET
+        self.arrays = None       # core.path_budget.PathArrays of the batches, or None
+        self.rebuilds = 0        # how often the arrays were built (tests count them)
         self._key = None
-        self._batches = []       # (batch, colour, width factor, drawn on top)
-        self._segments = {}      # (world, bodies) -> float32 (n, 3)
+        self._batches = []       # (batch, width factor, drawn on top)
+        self._key_view = None    # id of the LibraryView the arrays were built from
         self._shader = None
+        # One bound method for the timer: Blender finds a registered timer by the function object.
+        self._timer = self._poll
+
+    def add(self):
+        super().add()
+        if not bpy.app.timers.is_registered(self._timer):
+            bpy.app.timers.register(self._timer, first_interval=0.0, persistent=True)
+
+    def remove(self):
+        if bpy.app.timers.is_registered(self._timer):
+            bpy.app.timers.unregister(self._timer)
+        super().remove()
 
     def forget(self):
         self.clear()
 
     def clear(self):
         self._key = None
+        self.arrays = None
         self._batches = []
-        self._segments = {}
 
-    # --- batches ------------------------------------------------------------------------------
+    def budget_text(self):
+        """The panel's line when the budget leaves paths out, else ""."""
+        return self.arrays.budget_text() if self.arrays is not None else ""
 
-    def world_segments(self, view, world, bodies):
-        """Line-list vertices of the paths of `bodies` that exist in `world` (cached)."""
-        key = (world, bodies)
-        if key not in self._segments:
-            self._segments[key] = arrays.polyline_segments(view.library.polyline(world),
-                                                           view.present_bodies(world, bodies))
-        return self._segments[key]
+    # --- inputs and arrays ------------------------------------------------------------------------
 
-    def _batch(self, parts):
-        parts = [p for p in parts if len(p)]
-        if not parts:
-            return None
-        return batch_for_shader(self._shader, "LINES", {"pos": np.concatenate(parts)})
-
-    def _colour_groups(self, view, bodies):
-        """[(colour, bodies)]: the chosen bodies grouped by their object's colour."""
-        colours = palette.body_colours(view.body_names, view.simulated_bodies())
-        groups = {}
-        for b in bodies:
-            groups.setdefault(colours[b], []).append(b)
-        return [(colour, tuple(group)) for colour, group in groups.items()]
-
-    def _rebuild(self, view, bodies, selected, family_only):
-        if self._shader is None:
-            self._shader = compat.builtin_shader("POLYLINE_UNIFORM_COLOR")
-        family = view.family(selected) if family_only else None
-        has_selected = selected in view.world_indices
-        groups = self._colour_groups(view, bodies)
-        self._batches = []
-        # Rejected worlds first, so matching ones draw over them.
-        for is_match, shade in ((False, palette.rejected), (True, palette.matching)):
-            for colour, group in groups:
-                parts = [self.world_segments(view, world, group)
-                         for world, match in zip(view.world_indices, view.matching)
-                         if world != selected and bool(match and (family is None or world in family)) == is_match]
-                batch = self._batch(parts)
-                if batch is not None:
-                    colour = shade(colour)
-                    self._batches.append((batch, dimmed(colour) if has_selected else colour, 1.0, False))
-        if has_selected:
-            band = self._batch([self.world_segments(view, selected, bodies)])
-            if band is not None:
-                self._batches.append((band, SELECTED_COLOR, SELECTED_WIDTH, True))
-            for colour, group in groups:
-                batch = self._batch([self.world_segments(view, selected, group)])
-                if batch is not None:
-                    self._batches.append((batch, colour[:3] + (1.0,), 1.0, True))
-
-    def batches_for(self, context):
-        """The batches to draw now (rebuilt if their inputs changed); [] when there is nothing."""
+    def inputs(self, context):
+        """What the batches depend on (None: nothing to draw)."""
         view = SESSION.view
         if view is None or not context.scene.mwb.show_paths:
-            return []
-        bodies = chosen_bodies(context, view)
-        selected = context.scene.mwb.selected_world
-        family_only = context.scene.mwb.family_only
-        key = (id(view), view.version, bodies, selected, family_only)
-        if key != self._key:
-            if self._key is None or self._key[0] != id(view):
-                self._segments = {}
-            self._rebuild(view, bodies, selected, family_only)
-            self._key = key
-        return self._batches
+            return None
+        settings = context.scene.mwb
+        return (id(view), view.version, chosen_bodies(context, view), selected_bodies(context, view),
+                settings.selected_world, settings.family_only, self.vertex_budget)
 
-    # --- drawing --------------------------------------------------------------------------------
+    def update(self, context):
+        """Rebuild the arrays and batches if their inputs changed; True if they were rebuilt."""
+        key = self.inputs(context)
+        if key == self._key:
+            return False
+        self._key = key
+        if key is None:
+            self.arrays, self._batches = None, []
+            return True
+        view = SESSION.view
+        _, _, bodies, preferred, selected, family_only, budget = key
+        # Only the last build's segments are kept (about the budget's worth).
+        cache = self.arrays.segments if self.arrays is not None and self._key_view == id(view) else None
+        self.arrays = path_budget.build_path_arrays(self._choice(view, bodies, preferred, selected, family_only),
+                                                    view.library.polyline, view.present_bodies, budget, cache)
+        self._key_view = id(view)
+        self.rebuilds += 1
+        self._batches = [] if bpy.app.background else self._make_batches(self.arrays)
+        return True
+
+    @staticmethod
+    def _choice(view, bodies, preferred, selected, family_only):
+        matching = np.asarray(view.matching, dtype=bool)
+        if family_only:
+            family = view.family(selected)
+            matching = matching & np.array([w in family for w in view.world_indices], dtype=bool)
+        colours = palette.body_colours(view.body_names, view.simulated_bodies())
+        return path_budget.PathChoice(list(view.world_indices), matching, selected, bodies, preferred, colours)
+
+    def world_segments(self, view, world, bodies):
+        """Line-list vertices of the full paths of `bodies` that exist in `world`."""
+        return path_budget.line_segments(view.library.polyline(world), view.present_bodies(world, bodies), 1)
+
+    # --- batches ----------------------------------------------------------------------------------
+
+    def _make_batches(self, arrays):
+        if self._shader is None:
+            self._shader = compat.builtin_shader("POLYLINE_FLAT_COLOR")
+        batches = []
+        if len(arrays.others):
+            batches.append((self._batch(arrays.others, arrays.other_colours), 1.0, False))
+        if len(arrays.selected):
+            band = path_budget.selected_band_colours(len(arrays.selected))
+            batches.append((self._batch(arrays.selected, band), SELECTED_WIDTH, True))
+            batches.append((self._batch(arrays.selected, arrays.selected_colours), 1.0, True))
+        return batches
+
+    def _batch(self, positions, colours):
+        return batch_for_shader(self._shader, "LINES", {"pos": positions, "color": np.ascontiguousarray(colours)})
+
+    def _poll(self):
+        """Timer: rebuild the batches if their inputs changed, then redraw the 3D views."""
+        try:
+            if self.update(bpy.context):
+                tag_redraw_views()
+        except Exception:
+            # Keep polling: one failed build must not stop the paths from updating later.
+            traceback.print_exc()
+        return POLL_S
+
+    # --- drawing ----------------------------------------------------------------------------------
 
     def draw(self):
         context = bpy.context
-        batches = self.batches_for(context)
-        if not batches:
+        if not self._batches or SESSION.view is None or not context.scene.mwb.show_paths:
             return
         width = context.scene.mwb.path_width
         region = context.region
@@ -135,10 +174,9 @@ class PathOverlay(ViewportOverlay):
         try:
             self._shader.bind()
             self._shader.uniform_float("viewportSize", (region.width, region.height))
-            for batch, colour, factor, on_top in batches:
+            for batch, factor, on_top in self._batches:
                 gpu.state.depth_test_set("NONE" if on_top else "LESS_EQUAL")
                 self._shader.uniform_float("lineWidth", width * factor)
-                self._shader.uniform_float("color", colour)
                 batch.draw(self._shader)
         finally:
             gpu.state.blend_set(blend)

@@ -13,6 +13,7 @@ from ..core import library_query
 from ..core.export_warnings import grouped_warning_lines
 from ..operators import sampling
 from ..core.session import SESSION
+from ..draw import paths as path_overlay
 
 
 class SidebarPanel:
@@ -252,6 +253,9 @@ class MWB_PT_paths(SidebarPanel, bpy.types.Panel):
         layout.active = settings.show_paths
         layout.prop(settings, "path_width")
         layout.prop(settings, "path_bodies", text="")
+        budget = path_overlay.OVERLAY.budget_text()
+        if budget and settings.show_paths:
+            wrapped_labels(layout, context, budget, "INFO")
         legend.draw_legend(layout, context)
 
 
