@@ -9,7 +9,8 @@ variation ranges as min/max), every panel of the add-on is drawn through a recor
 (tests/viewport/label_fit.py) and every label, field and button text is measured against the
 width the panel gives it. The test fails on any text that does not fit, names it, and keeps a
 full-window screenshot of each state in the output folder. It also checks the panel order, that
-expert settings start collapsed, that the panel says which objects a new box tests (and which
+expert settings start collapsed, that the Paths panel says when a drawing budget leaves paths
+out, that the panel says which objects a new box tests (and which
 selected objects it leaves out), and that the preview state and an edit during it are said.
 The sidebar at its top, halfway and at its end is kept as sidebar.png (the README's picture).
 Exit code 0 = pass.
@@ -25,6 +26,8 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 from many_worlds.core.session import SESSION  # noqa: E402
+from many_worlds.core import path_budget  # noqa: E402
+from many_worlds.draw import paths as path_overlay  # noqa: E402
 from many_worlds.ui import lists, panels  # noqa: E402
 import label_fit  # noqa: E402
 from viewport_helpers import run_steps, viewport  # noqa: E402
@@ -276,9 +279,13 @@ def steps():
     assert [b.name for b in scene.mwb.boxes[0].bodies] == ["Box0"], "the passive ground was put in a box"
     bpy.ops.mwb.select_world(world=SESSION.view.world_indices[3])
     scene.frame_set(20)
+    # A drawing budget too small for every path: the Paths panel says a subset is shown.
+    path_overlay.OVERLAY.vertex_budget = 1000
     yield
     redraw_all()
     results.append(measure("boxes_and_preview"))
+    paths_text = " ".join(texts("Paths"))
+    assert "(drawing budget)" in paths_text, paths_text
     shot = window_screenshot("boxes_and_preview.png")
     # The sidebar alone, at its top, scrolled halfway and to its end, side by side (the README's picture).
     top = crop(shot, "sidebar_top.png", sidebar)
@@ -289,6 +296,7 @@ def steps():
     redraw_all()
     bottom = crop(window_screenshot("boxes_and_preview_end.png"), "sidebar_bottom.png", sidebar)
     save_rgb(np.concatenate([top, middle, bottom], axis=1), "sidebar.png")
+    path_overlay.OVERLAY.vertex_budget = path_budget.VERTEX_BUDGET
     # Text is drawn, light on the panels' grey, and the scrolled half shows other panels.
     assert (top.min(axis=-1) > 0.75).sum() > 2000 and (bottom.min(axis=-1) > 0.75).sum() > 2000
     assert np.abs(top - bottom).mean() > 0.02, "the sidebar did not scroll"
