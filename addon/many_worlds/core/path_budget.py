@@ -9,6 +9,7 @@ of the budget, down to MIN_SEGMENTS segments a path; when even that does not fit
 the worlds that fit, taken in an order whose every beginning is spread evenly over the library
 (bit-reversed positions), and later tiers draw nothing.
 """
+import functools
 from dataclasses import dataclass, field
 from typing import Callable, Optional, Sequence
 
@@ -25,12 +26,16 @@ DIMMED_ALPHA = 0.35
 SELECTED_COLOR = (0.1, 0.85, 1.0, 1.0)
 
 
+@functools.lru_cache(maxsize=64)
 def thinned_indices(points, stride):
-    """Indices of the points a path of `points` keeps at `stride`: 0, stride, 2 stride, ... and the last."""
+    """Indices of the points a path of `points` keeps at `stride`: 0, stride, 2 stride, ... and the
+    last (shared between calls: not to be written to)."""
     if points < 2:
         return np.zeros(0, np.intp)
     kept = np.arange(0, points, max(1, stride), dtype=np.intp)
-    return kept if kept[-1] == points - 1 else np.append(kept, points - 1)
+    kept = kept if kept[-1] == points - 1 else np.append(kept, points - 1)
+    kept.flags.writeable = False
+    return kept
 
 
 def path_vertices(points, stride):
@@ -197,6 +202,7 @@ def build_path_arrays(choice: PathChoice, polyline_of: Callable, present_of: Cal
         for table in shades.values():
             table[:, 3] *= DIMMED_ALPHA
     taken = {True: ([], []), False: ([], [])}
+    colours = {}   # (bodies, vertices, matched) -> their colours: worlds share them
     full = False   # a world did not fit: what is not taken yet is left out
     for positions, bodies, matched, stride, _ in plan:
         arrays.coarsest_stride = max(arrays.coarsest_stride, stride)
@@ -209,7 +215,10 @@ def build_path_arrays(choice: PathChoice, polyline_of: Callable, present_of: Cal
             budget -= len(lines)
             if len(lines):
                 taken[matched][0].append(lines)
-                taken[matched][1].append(_colours(present, len(lines), shades[matched]))
+                key = (present, len(lines), matched)
+                if key not in colours:
+                    colours[key] = _colours(present, len(lines), shades[matched])
+                taken[matched][1].append(colours[key])
                 arrays.worlds.add(worlds[k])
                 arrays.drawn.append((worlds[k], present, stride))
                 arrays.paths_drawn += len(present)
