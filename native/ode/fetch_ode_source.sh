@@ -8,10 +8,11 @@
 set -eu
 DIR=$1
 [ -f "$DIR/ode_0.16.2.orig.tar.gz" ] && [ -f "$DIR/libccd_2.1.orig.tar.gz" ] && exit 0
+. "$(dirname "$0")/../release/debian_chroot.sh"
 
 APT=$DIR/apt
-mkdir -p "$APT/sources" "$APT/lists/partial" "$APT/cache/archives/partial" "$DIR/download"
-rm -f "$APT"/sources/*
+private_apt_dir "$APT"
+mkdir -p "$DIR/download"
 # deb822 files: every stanza becomes a deb-src stanza.
 for f in /etc/apt/sources.list.d/*.sources; do
     [ -f "$f" ] || continue
@@ -23,17 +24,12 @@ for f in /etc/apt/sources.list /etc/apt/sources.list.d/*.list; do
     sed -n -e 's/^[[:space:]]*deb[[:space:]]/deb-src /p' "$f" > "$APT/sources/$(basename "$f").list"
 done
 
-apt_private() {
-    apt-get -o Dir::Etc::SourceList=/dev/null -o Dir::Etc::SourceParts="$APT/sources" \
-        -o Dir::State::Lists="$APT/lists" -o Dir::Cache="$APT/cache" \
-        -o APT::Sandbox::User="$(id -un)" -o Debug::NoLocking=true -qq "$@"
-}
 # A third-party source without deb-src entries only makes update warn; both come from Debian's.
-apt_private update || true
+apt_private "$APT" update || true
 
 fetch() {  # PACKAGE VERSION ARCHIVE
     [ -f "$DIR/$3" ] && return 0
-    (cd "$DIR/download" && apt_private source --download-only "$1=$2") >/dev/null 2>&1 || true
+    (cd "$DIR/download" && apt_private "$APT" source --download-only "$1=$2") >/dev/null 2>&1 || true
     if [ ! -f "$DIR/download/$3" ]; then
         echo "fetch_ode_source: could not fetch $3 from Debian's source packages (is a Debian 12" \
              "mirror reachable? Or put it in $DIR yourself)" >&2

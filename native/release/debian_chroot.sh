@@ -4,6 +4,8 @@
 #   in_chroot DIR CMD...                   run CMD in DIR with a clean environment
 #   mount_checkout DIR ROOT                /proc and the checkout ROOT at its own path, in DIR
 #   unmount_checkout DIR ROOT
+#   private_apt_dir APT                    make APT ready for apt_private (empty APT/sources)
+#   apt_private APT ARGS...                apt-get with sources, lists and cache under APT only
 # Needs root. Functions return non-zero with one line on stderr when something fails.
 
 debian_mirror() {
@@ -62,13 +64,41 @@ ensure_chroot() {
     }
 }
 
+private_apt_dir() {
+    mkdir -p "$1/sources" "$1/lists/partial" "$1/cache/archives/partial"
+    rm -f "$1"/sources/*
+}
+
+# The system's apt setup is left alone: no root needed, nothing installed, no lock taken.
+apt_private() {
+    _apt=$1
+    shift
+    apt-get -o Dir::Etc::SourceList=/dev/null -o Dir::Etc::SourceParts="$_apt/sources" \
+        -o Dir::State::Lists="$_apt/lists" -o Dir::Cache="$_apt/cache" -o Dir::State::status=/dev/null \
+        -o APT::Sandbox::User="$(id -un)" -o Debug::NoLocking=true -qq "$@"
+}
+
 mount_checkout() {
     mkdir -p "$1$2"
     mountpoint -q "$1/proc" || mount -t proc proc "$1/proc"
     mountpoint -q "$1$2" || mount --bind "$2" "$1$2"
 }
 
-unmount_checkout() {
+unprivate_apt_dir() {
+    mkdir -p "$1/sources" "$1/lists/partial" "$1/cache/archives/partial"
+    rm -f "$1"/sources/*
+}
+
+# The system's apt setup is left alone: no root needed, nothing installed, no lock taken.
+apt_private() {
+    _apt=$1
+    shift
+    apt-get -o Dir::Etc::SourceList=/dev/null -o Dir::Etc::SourceParts="$_apt/sources" \
+        -o Dir::State::Lists="$_apt/lists" -o Dir::Cache="$_apt/cache" -o Dir::State::status=/dev/null \
+        -o APT::Sandbox::User="$(id -un)" -o Debug::NoLocking=true -qq "$@"
+}
+
+mount_checkout() {
     for _m in "$1$2" "$1/proc"; do
         if mountpoint -q "$_m"; then
             umount "$_m" || umount -l "$_m"

@@ -12,7 +12,8 @@ DIR=$1
 . "$(dirname "$0")/debian_chroot.sh"
 
 APT=$DIR/apt
-mkdir -p "$APT/sources" "$APT/lists/partial" "$APT/cache/archives/partial" "$DIR/debs" "$DIR/unpacked"
+private_apt_dir "$APT"
+mkdir -p "$DIR/debs" "$DIR/unpacked"
 mirror=$(debian_mirror)
 cat > "$APT/sources/debian.sources" <<EOF
 Types: deb
@@ -21,13 +22,8 @@ Suites: bookworm trixie
 Components: main
 Signed-By: /usr/share/keyrings/debian-archive-keyring.gpg
 EOF
-apt_private() {
-    apt-get -o Dir::Etc::SourceList=/dev/null -o Dir::Etc::SourceParts="$APT/sources" \
-        -o Dir::State::Lists="$APT/lists" -o Dir::Cache="$APT/cache" -o Dir::State::status=/dev/null \
-        -o APT::Sandbox::User="$(id -un)" -o Debug::NoLocking=true -qq "$@"
-}
-apt_private update
-(cd "$DIR/debs" && apt_private download libpython3.11-dev/bookworm libpython3.13-dev/trixie pybind11-dev/trixie)
+apt_private "$APT" update
+(cd "$DIR/debs" && apt_private "$APT" download libpython3.11-dev/bookworm libpython3.13-dev/trixie pybind11-dev/trixie)
 for deb in "$DIR"/debs/*.deb; do
     dpkg-deb -x "$deb" "$DIR/unpacked"
 done
