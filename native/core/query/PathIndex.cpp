@@ -185,10 +185,15 @@ std::vector<std::pair<uint64_t, double>> PathIndex::rank(const std::string& metr
     std::vector<const World*> worlds;
     for (const World* world : snapshot())
         if (!only || std::binary_search(only->begin(), only->end(), world->world_index)) worlds.push_back(world);
+    // Where each world keeps the metric's values (found once, before the parallel loop).
+    std::vector<size_t> metric_slot(worlds.size(), 0);
     if (!to_goal)
-        for (const World* world : worlds)
-            if (std::find(world->metric_names.begin(), world->metric_names.end(), metric) == world->metric_names.end())
-                throw std::invalid_argument("unknown metric '" + metric + "'");
+        for (size_t w = 0; w < worlds.size(); ++w) {
+            const std::vector<std::string>& names = worlds[w]->metric_names;
+            const auto it = std::find(names.begin(), names.end(), metric);
+            if (it == names.end()) throw std::invalid_argument("unknown metric '" + metric + "'");
+            metric_slot[w] = static_cast<size_t>(it - names.begin());
+        }
     // One slot per world, filled on all cores, then gathered in world order: the same ranking on
     // any number of threads.
     std::vector<double> combined(worlds.size(), 0.0);
@@ -197,11 +202,7 @@ std::vector<std::pair<uint64_t, double>> PathIndex::rank(const std::string& metr
 #pragma omp parallel for schedule(dynamic, 64)
     for (std::ptrdiff_t w = 0; w < count; ++w) {
         const World& world = *worlds[static_cast<size_t>(w)];
-        const std::vector<double>* values = nullptr;
-        if (!to_goal) {
-            const auto it = std::find(world.metric_names.begin(), world.metric_names.end(), metric);
-            values = &world.metric_values[static_cast<size_t>(it - world.metric_names.begin())];
-        }
+        const std::vector<double>* values = to_goal ? nullptr : &world.metric_values[metric_slot[static_cast<size_t>(w)]];
         double value = combine == Combine::Sum ? 0.0 : -std::numeric_limits<double>::infinity();
         size_t counted = 0;
         for (size_t k = 0; k < bodies.size(); ++k) {
