@@ -84,21 +84,7 @@ mount_checkout() {
     mountpoint -q "$1$2" || mount --bind "$2" "$1$2"
 }
 
-unprivate_apt_dir() {
-    mkdir -p "$1/sources" "$1/lists/partial" "$1/cache/archives/partial"
-    rm -f "$1"/sources/*
-}
-
-# The system's apt setup is left alone: no root needed, nothing installed, no lock taken.
-apt_private() {
-    _apt=$1
-    shift
-    apt-get -o Dir::Etc::SourceList=/dev/null -o Dir::Etc::SourceParts="$_apt/sources" \
-        -o Dir::State::Lists="$_apt/lists" -o Dir::Cache="$_apt/cache" -o Dir::State::status=/dev/null \
-        -o APT::Sandbox::User="$(id -un)" -o Debug::NoLocking=true -qq "$@"
-}
-
-mount_checkout() {
+unmount_checkout() {
     for _m in "$1$2" "$1/proc"; do
         if mountpoint -q "$_m"; then
             umount "$_m" || umount -l "$_m"
