@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "BenchReport.h"
+#include "common/BuildInfo.h"
 #include "library/LibraryReader.h"
 #include "library/LibraryWriter.h"
 #include "sampler/Sampler.h"
@@ -76,7 +77,7 @@ int main() {
     const std::string library = (std::filesystem::temp_directory_path() / "mwb_bench_refine.mwb").string();
     std::filesystem::remove(library);
     const Scene quickstart = load_scene_file(std::string(MWB_BENCH_DIR) + "/../scenes/quickstart.json");
-    const RunHeader header{scene_to_json(quickstart), SimulationParameters{}, CodecBounds{}, 1};
+    const RunHeader header{scene_to_json(quickstart), SimulationParameters{}, CodecBounds{}, 1, engine_build()};
     CompiledScene compiled(quickstart, header.parameters);
     {
         LibraryWriter writer(library, header);

@@ -32,6 +32,7 @@ fail() {
     exit 1
 }
 # Work folders live in the checkout, which every chroot sees at the same path.
+mkdir -p "$ROOT/build-release"
 WORK=$(mktemp -d "$ROOT/build-release/test.XXXXXX")
 cleanup() {
     unmount_checkout "$BULLSEYE" "$ROOT"
