@@ -7,6 +7,7 @@
 #include <map>
 
 #include "SceneFixtures.h"
+#include "common/BuildInfo.h"
 #include "library/LibraryReader.h"
 #include "library/LibraryWriter.h"
 #include "library/WorldDecoding.h"
@@ -101,7 +102,7 @@ protected:
         fs::remove_all(dir_);
         fs::create_directories(dir_);
         scene_ = fixtures::pile(6, 96);
-        const RunHeader header{scene_to_json(scene_), SimulationParameters{}, CodecBounds{}, 3};
+        const RunHeader header{scene_to_json(scene_), SimulationParameters{}, CodecBounds{}, 3, engine_build()};
         const CompiledScene compiled(scene_, header.parameters);
         LibraryWriter writer(path("start.mwb"), header);
         sample_worlds(compiled, header.base_seed, 0, 6, 2, [&](WorldResult&& w) { writer.append(w); });
