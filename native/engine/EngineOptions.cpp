@@ -54,7 +54,7 @@ const char* engine_usage() {
     return "usage:\n"
            "  mwb-engine sample --scene SCENE.json --out LIB.mwb [--seed S] [--worlds A:B | --count N]\n"
            "                    [--threads T] [--duration SECONDS] [--alpha A] [--no-perturb] [--no-sleep] [--no-stop-at-rest]\n"
-           "                    [--position-error METRES] [--rotation-error DEGREES] [--progress]\n"
+           "                    [--no-shared-prefix] [--position-error METRES] [--rotation-error DEGREES] [--progress]\n"
            "                    [--world-time-limit SECONDS] [--in-process] [--dry-run]\n"
            "  mwb-engine refine --library LIB.mwb --world W --bodies I,J --time SECONDS [--count N]\n"
            "                    [--first-child K] [--threads T] [--progress]\n"
@@ -94,6 +94,7 @@ EngineOptions parse_engine_options(const std::vector<std::string>& args) {
         else if (flag == "--rotation-error") options.bounds.rotation_error_max_rad = parse_number(flag, value()) * kPi / 180;
         else if (flag == "--progress") options.progress = true;
         else if (flag == "--in-process") options.in_process = true;
+        else if (flag == "--no-shared-prefix") options.share_prefix = false;
         else if (flag == "--dry-run") options.dry_run = true;
         else if (flag == "--world-time-limit") options.world_time_limit_s = parse_number(flag, value());
         else if (flag == "--json") options.json = true;

@@ -40,6 +40,8 @@ struct EngineOptions {
     bool progress = false;
     bool dry_run = false;               ///< sample: say whether --out holds this run, write nothing
     bool in_process = false;            ///< sample: simulate in this process, not in supervised workers
+    /// sample: worlds that start alike share their prefix (sim/SharedPrefix); off only to measure it
+    bool share_prefix = true;
     double world_time_limit_s = 0;      ///< sample: a world still running after this is rejected (0: adaptive)
     SimulationParameters parameters;
     CodecBounds bounds;

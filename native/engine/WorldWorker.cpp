@@ -12,8 +12,9 @@
 
 #include "library/LibraryFormat.h"
 #include "library/WorldRecordEncoder.h"
-#include "sampler/Sampler.h"
 #include "scene/SceneJson.h"
+#include "sim/OdeWorld.h"
+#include "sim/SharedPrefix.h"
 
 namespace mwb {
 namespace {
@@ -74,18 +75,20 @@ int run_world_worker(const EngineOptions& options) {
     const Vec3 gravity = scene.world.gravity;
     const CompiledScene compiled(scene, options.parameters);
     const std::map<uint64_t, std::string> faults = injected_faults();
+    initialize_ode_once();
+    // A worker lives for many worlds: the later ones share the first one's prefix.
+    PrefixSharingSimulator simulator(compiled, options.base_seed, options.share_prefix);
     std::string line;
     while (std::getline(std::cin, line)) {
         const uint64_t world_index = std::stoull(line);
         const auto fault = faults.find(world_index);
         if (fault != faults.end()) fail_as_injected(fault->second);
-        sample_world_list(compiled, options.base_seed, {world_index}, 1, [&](WorldResult&& world) {
-            if (world.status == WorldStatus::Ok)
-                send_record(world_index, kRecordTypeWorld, kWorldRecordVersion,
-                            encode_world_record(world, options.bounds, gravity));
-            else if (world.status == WorldStatus::Rejected)
-                send_record(world_index, kRecordTypeRejection, kRejectionRecordVersion, encode_rejection_record(world));
-        });
+        const WorldResult world = simulator.simulate(world_index);
+        if (world.status == WorldStatus::Ok)
+            send_record(world_index, kRecordTypeWorld, kWorldRecordVersion,
+                        encode_world_record(world, options.bounds, gravity));
+        else if (world.status == WorldStatus::Rejected)
+            send_record(world_index, kRecordTypeRejection, kRejectionRecordVersion, encode_rejection_record(world));
     }
     return 0;
 }

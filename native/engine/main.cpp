@@ -99,7 +99,7 @@ int run_sample(const EngineOptions& options, [[maybe_unused]] const std::vector<
                 writer.append(world);
                 if (world.status != WorldStatus::Cancelled) report(world.world_index);
             },
-            &g_progress);
+            &g_progress, options.share_prefix);
     } else {
 #ifndef _WIN32
         // Each world in a worker process: a world that crashes ODE is rejected, the run goes on.

@@ -10,6 +10,7 @@
 #include "SceneFixtures.h"
 #include "WorldCompare.h"
 #include "codec/CodecError.h"
+#include "common/BuildInfo.h"
 #include "library/LibraryFormat.h"
 #include "library/LibraryMerge.h"
 #include "library/LibraryReader.h"
@@ -301,7 +302,7 @@ protected:
 
 // A library sampled with the stack, then a world gains the ball and another loses Lower.
 TEST_F(SceneChangeLibrary, WorldsSayWhichBodiesTheyHaveAndStoreOnlyWhatChanged) {
-    const RunHeader header{scene_to_json(stack()), full_length(), CodecBounds{}, 7};
+    const RunHeader header{scene_to_json(stack()), full_length(), CodecBounds{}, 7, engine_build()};
     const std::string file = path("changes.mwb");
     {
         CompiledScene sampled(stack(), header.parameters);
@@ -352,7 +353,7 @@ TEST_F(SceneChangeLibrary, WorldsSayWhichBodiesTheyHaveAndStoreOnlyWhatChanged) 
 }
 
 TEST_F(SceneChangeLibrary, ABadRevisionIsSkippedWithAMessageAndWorldsThatNeedItToo) {
-    const RunHeader header{scene_to_json(stack()), full_length(), CodecBounds{}, 7};
+    const RunHeader header{scene_to_json(stack()), full_length(), CodecBounds{}, 7, engine_build()};
     const std::string file = path("bad.mwb");
     Scene reordered = stack_with_ball();
     std::swap(reordered.bodies[1], reordered.bodies[2]);

@@ -7,22 +7,25 @@
 #include <mutex>
 
 #include "sim/OdeWorld.h"
+#include "sim/SharedPrefix.h"
 #include "sim/WorldSimulator.h"
 
 namespace mwb {
 
 SamplingStatistics sample_worlds(const CompiledScene& compiled, uint64_t base_seed, uint64_t first_world,
                                  uint64_t world_count, int threads, const WorldSink& sink,
-                                 SamplingProgress* progress) {
+                                 SamplingProgress* progress, bool share_prefix) {
     std::vector<uint64_t> indices(world_count);
     for (uint64_t k = 0; k < world_count; ++k) indices[k] = first_world + k;
-    return sample_world_list(compiled, base_seed, indices, threads, sink, progress);
+    return sample_world_list(compiled, base_seed, indices, threads, sink, progress, share_prefix);
 }
 
 namespace {
 
-// Runs make_world(k) for k in [0, count) on `threads` threads and delivers each result in
-// completion order, never concurrently; the statistics count every outcome.
+int thread_count_for(int threads) { return threads > 0 ? threads : omp_get_max_threads(); }
+
+// Runs make_world(k, cancel, thread) for k in [0, count) on `threads` threads and delivers each
+// result in completion order, never concurrently; the statistics count every outcome.
 template <typename MakeWorld>
 SamplingStatistics run_parallel(size_t count, int threads, const WorldSink& sink, SamplingProgress* progress,
                                 MakeWorld make_world) {
@@ -33,13 +36,13 @@ SamplingStatistics run_parallel(size_t count, int threads, const WorldSink& sink
     std::exception_ptr sink_error;
     std::atomic<bool> stop_for_error{false};
     const std::atomic<bool>* cancel = progress ? &progress->cancel : nullptr;
-    const int thread_count = threads > 0 ? threads : omp_get_max_threads();
+    const int thread_count = thread_count_for(threads);
     const auto total = static_cast<long long>(count);
     // Dynamic scheduling: world lengths vary a lot (early rest, rejections).
 #pragma omp parallel for num_threads(thread_count) schedule(dynamic, 1)
     for (long long k = 0; k < total; ++k) {
         if ((cancel && cancel->load(std::memory_order_relaxed)) || stop_for_error.load()) continue;
-        WorldResult world = make_world(static_cast<size_t>(k), cancel);
+        WorldResult world = make_world(static_cast<size_t>(k), cancel, omp_get_thread_num());
         std::lock_guard<std::mutex> lock(sink_mutex);
         switch (world.status) {
             case WorldStatus::Ok: ++stats.worlds_ok; break;
@@ -67,10 +70,14 @@ SamplingStatistics run_parallel(size_t count, int threads, const WorldSink& sink
 
 SamplingStatistics sample_world_list(const CompiledScene& compiled, uint64_t base_seed,
                                      const std::vector<uint64_t>& world_indices, int threads, const WorldSink& sink,
-                                     SamplingProgress* progress) {
+                                     SamplingProgress* progress, bool share_prefix) {
+    // Each thread shares the prefix of the first world it simulates with the later ones: no
+    // thread waits for another, and any split of the indices gives the same worlds.
+    std::vector<PrefixSharingSimulator> simulators;
+    for (int t = 0; t < thread_count_for(threads); ++t) simulators.emplace_back(compiled, base_seed, share_prefix);
     return run_parallel(world_indices.size(), threads, sink, progress,
-                        [&](size_t k, const std::atomic<bool>* cancel) {
-                            return simulate_world(compiled, base_seed, world_indices[k], cancel);
+                        [&](size_t k, const std::atomic<bool>* cancel, int thread) {
+                            return simulators[static_cast<size_t>(thread)].simulate(world_indices[k], cancel);
                         });
 }
 
@@ -79,7 +86,7 @@ SamplingStatistics refine_worlds(const CompiledScene& compiled, uint64_t base_se
                                  SamplingProgress* progress) {
     for (const RefineStep& child : children) check_refinement(compiled, chain, child);
     return run_parallel(children.size(), threads, sink, progress,
-                        [&](size_t k, const std::atomic<bool>* cancel) {
+                        [&](size_t k, const std::atomic<bool>* cancel, int) {
                             return refine_world(compiled, base_seed, chain, children[k], cancel);
                         });
 }

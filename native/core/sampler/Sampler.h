@@ -34,14 +34,16 @@ using WorldSink = std::function<void(WorldResult&&)>;
 /// `threads` threads (<= 0: all cores). Each world is a pure function of (scene, parameters,
 /// base_seed, index), whatever the thread count or order. Setting progress->cancel stops every
 /// world at its next recorded frame; worlds finished before then are delivered intact.
+/// `share_prefix`: when no initial state varies, worlds start from the checkpoint before the
+/// first perturbed impact of an earlier world (sim/SharedPrefix); the worlds are the same.
 SamplingStatistics sample_worlds(const CompiledScene& compiled, uint64_t base_seed, uint64_t first_world,
                                  uint64_t world_count, int threads, const WorldSink& sink,
-                                 SamplingProgress* progress = nullptr);
+                                 SamplingProgress* progress = nullptr, bool share_prefix = true);
 
 /// The same for an explicit list of world indices (e.g. the ones a library does not hold yet).
 SamplingStatistics sample_world_list(const CompiledScene& compiled, uint64_t base_seed,
                                      const std::vector<uint64_t>& world_indices, int threads, const WorldSink& sink,
-                                     SamplingProgress* progress = nullptr);
+                                     SamplingProgress* progress = nullptr, bool share_prefix = true);
 
 /// Refines the world at the end of `chain` (an exact lineage, see simulate_lineage) once per
 /// entry of `children`, in parallel; each child's perturbations come from its own world index.
