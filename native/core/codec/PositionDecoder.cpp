@@ -30,7 +30,7 @@ PositionTrackDecoder::PositionTrackDecoder(const uint8_t* data, size_t size) { p
 
 void PositionTrackDecoder::parse(const uint8_t* data, size_t size) {
     BitReader reader(data, size);
-    const TrackHeader header = read_track_header(reader, kPositionTrackFormatV1);
+    const TrackHeader header = read_track_header(reader, kPositionTrackFormatV1, kPositionTrackFormatV2);
     frame_count_ = header.frame_count;
     step_m_ = header.step;
     const bool has_gravity = reader.read_bit();
@@ -41,22 +41,25 @@ void PositionTrackDecoder::parse(const uint8_t* data, size_t size) {
             if (!std::isfinite(value)) throw CodecError("non-finite gravity term");
         }
     }
-    if (frame_count_ > 0) start_m_ = read_start(reader, step_m_);
+    const bool has_curves = header.format >= 2 && reader.read_bit();
+    if (frame_count_ > 0) start_m_ = read_start(reader, start_key_step(header.format, step_m_));
 
     FitSegmentReader fit_reader;
     Vec3 position = start_m_;
     // Each segment covers at least one frame, so the loop ends after at most frame_count - 1
     // rounds, and each round consumes input, so a corrupted count cannot make it spin.
     for (uint32_t frame = 0; frame + 1 < frame_count_;) {
-        Segment segment{frame, 1, reader.read_bit(), false, {}, position};
+        Segment segment{frame, 1, reader.read_bit(), false, {}, {}, position};
         if (segment.raw) {
             for (double& value : segment.origin_m) value = read_finite_double(reader);
             fit_reader.reset_prediction();
         } else {
             segment.gravity = has_gravity && reader.read_bit();
-            const FitSegment fit = fit_reader.read(reader, frame_count_ - 1 - frame);
+            const bool curved = has_curves && reader.read_bit();
+            const FitSegment fit = fit_reader.read(reader, frame_count_ - 1 - frame, curved);
             segment.length = fit.length;
             segment.steps = fit.steps;
+            segment.bulge = fit.bulge;
         }
         segments_.push_back(segment);
         position = evaluate(segment, segment.length);
@@ -68,8 +71,8 @@ void PositionTrackDecoder::parse(const uint8_t* data, size_t size) {
 Vec3 PositionTrackDecoder::evaluate(const Segment& segment, uint32_t frame_in_segment) const {
     if (segment.raw) return segment.origin_m;
     const Vec3 quadratic = segment.gravity ? quadratic_m_ : Vec3{0, 0, 0};
-    return position_on_segment(segment.origin_m, quadratic, segment.steps, step_m_, segment.length,
-                               frame_in_segment);
+    return position_on_segment(segment.origin_m, quadratic, segment.steps, segment.bulge, step_m_,
+                               segment.length, frame_in_segment);
 }
 
 void PositionTrackDecoder::decode_all(double* out_xyz_m) const {

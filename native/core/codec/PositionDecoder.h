@@ -11,7 +11,7 @@
 namespace mwb {
 
 /// A parsed position track. Construction reads and validates the whole buffer once and keeps a
-/// table of segments (64 bytes each), so frames can then be decoded in any order. Const
+/// table of segments (88 bytes each), so frames can then be decoded in any order. Const
 /// member functions may be called from several threads at once.
 class PositionTrackDecoder {
 public:
@@ -40,6 +40,7 @@ private:
         bool raw;
         bool gravity;
         SegmentSteps steps;
+        SegmentSteps bulge;  // zero unless curved
         Vec3 origin_m;  // decoded position at first_frame, or the exact frame value if raw
     };
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <utility>
 #include <stdexcept>
 
 #include "codec/BitWriter.h"
@@ -12,9 +13,10 @@
 namespace mwb {
 namespace {
 
-// A step of at most half the bound costs at most 0.43 of the bound in rounding (half a step on
-// each axis), leaving the rest to the fit; finer steps cost more bits than they save in segments.
-constexpr double kStepFraction = 0.5;
+// A step of at most the bound costs at most 0.87 of it in rounding (half a step on each axis),
+// and only where a fit lands on a quantized value; with curved segments, half that step cost
+// about 6% more bytes on the bench scenes (finer steps cost more bits than they save in segments).
+constexpr double kStepFraction = 1.0;
 // The encoder aims slightly under the bound so that a build that rounds the reconstruction
 // formula differently (e.g. with fused multiply-add) still decodes within it.
 constexpr double kToleranceFraction = 1.0 - 1e-9;
@@ -34,13 +36,18 @@ struct StartKey {
     Vec3 position_m{};  // as decoded
 };
 
+// The shapes a fit segment may take, cheapest first.
+enum class Shape { straight, gravity, curved };
+
 struct SegmentFit {
     uint32_t length = 0;
     bool raw = false;
     bool gravity = false;
+    bool curved = false;
     SegmentSteps steps{};
+    SegmentSteps bulge{};
     Vec3 end_m{};  // decoded position at the last frame
-    double end_error_m = 0;
+    double end_error = 0;
 };
 
 Vec3 input_frame(const PositionInput& input, uint32_t frame) {
@@ -50,70 +57,59 @@ Vec3 input_frame(const PositionInput& input, uint32_t frame) {
 
 // Checks one quantized candidate with the decoder's arithmetic.
 std::optional<SegmentFit> check_candidate(const PositionInput& input, uint32_t start_frame,
-                                          const Vec3& start_m, bool gravity, uint32_t length,
-                                          const SegmentSteps& steps) {
+                                          const Vec3& start_m, Shape shape, uint32_t length,
+                                          const SegmentSteps& steps, const SegmentSteps& bulge) {
+    const bool gravity = shape == Shape::gravity;
     const Vec3 quadratic = gravity ? input.quadratic_m : Vec3{0, 0, 0};
-    SegmentFit fit{length, false, gravity, steps, {}, 0};
+    // A zero bulge decodes exactly as a straight segment, which is cheaper to write.
+    SegmentFit fit{length, false, gravity, !is_zero(bulge), steps, bulge, {}, 0};
     for (uint32_t j = 1; j <= length; ++j) {
-        const Vec3 decoded = position_on_segment(start_m, quadratic, steps, input.step_m, length, j);
+        const Vec3 decoded = position_on_segment(start_m, quadratic, steps, bulge, input.step_m, length, j);
         const double error = norm(sub(decoded, input_frame(input, start_frame + j)));
         if (!(error <= input.tolerance_m)) return std::nullopt;
         fit.end_m = decoded;
-        fit.end_error_m = error;
+        fit.end_error = error;
     }
     return fit;
 }
 
-// Fits a segment of exactly `length` frames: the linear term from least squares with the start
-// fixed, from interpolating the last frame, and halfway between; each is quantized and checked.
-// Of those within the bound, keeps the one ending closest to the input, which helps the next
-// segment.
-std::optional<SegmentFit> fit_length(const PositionInput& input, uint32_t start_frame,
-                                     const Vec3& start_m, bool gravity, uint32_t length) {
-    const Vec3 quadratic = gravity ? input.quadratic_m : Vec3{0, 0, 0};
-    Vec3 weighted{0, 0, 0};
-    double weight = 0;
-    Vec3 residual{};
+// Fits a segment of exactly `length` frames of the given shape.
+std::optional<SegmentFit> fit_length(const PositionInput& input, uint32_t start_frame, const Vec3& start_m,
+                                     const PreviousFit& previous, Shape shape, uint32_t length) {
+    const Vec3 quadratic = shape == Shape::gravity ? input.quadratic_m : Vec3{0, 0, 0};
+    SegmentSums sums;
     for (uint32_t j = 1; j <= length; ++j) {
         const double t = j;
-        residual = sub(sub(input_frame(input, start_frame + j), start_m), scale(quadratic, t * t));
-        weighted = add(weighted, scale(residual, t));
-        weight += t * t;
+        sums.add(t / length, sub(sub(input_frame(input, start_frame + j), start_m), scale(quadratic, t * t)));
     }
-    const Vec3 least_squares = scale(weighted, double(length) / weight);
-    const Vec3 candidates[] = {least_squares, residual,
-                               scale(add(least_squares, residual), 0.5)};
-    std::optional<SegmentFit> best;
-    std::optional<SegmentSteps> tried[3];
-    for (int c = 0; c < 3; ++c) {
-        tried[c] = quantize(candidates[c], input.step_m, kMaxSegmentSteps);
-        if (!tried[c] || std::find(tried, tried + c, tried[c]) != tried + c) continue;
-        auto fit = check_candidate(input, start_frame, start_m, gravity, length, *tried[c]);
-        if (fit && (!best || fit->end_error_m < best->end_error_m)) best = fit;
-    }
-    return best;
+    return best_segment_candidate(sums, shape == Shape::curved, previous, length, input.step_m,
+                                  [&](const SegmentSteps& end, const SegmentSteps& bulge) {
+                                      return check_candidate(input, start_frame, start_m, shape, length, end, bulge);
+                                  });
 }
 
-std::optional<SegmentFit> longest_fit(const PositionInput& input, uint32_t start_frame,
-                                      const Vec3& start_m, bool gravity) {
+std::optional<SegmentFit> longest_fit(const PositionInput& input, uint32_t start_frame, const Vec3& start_m,
+                                      const PreviousFit& previous, Shape shape) {
     const uint32_t max_length = std::min(input.frame_count - 1 - start_frame, kMaxSegmentFrames);
     return longest_greedy_fit(max_length, [&](uint32_t length) {
-        return fit_length(input, start_frame, start_m, gravity, length);
+        return fit_length(input, start_frame, start_m, previous, shape, length);
     });
 }
 
 bool better(const std::optional<SegmentFit>& a, const std::optional<SegmentFit>& b) {
     if (!b) return a.has_value();
     if (!a) return false;
-    if (a->length != b->length) return a->length > b->length;
-    return a->end_error_m < b->end_error_m;
+    return a->length > b->length;
 }
 
-SegmentFit next_segment(const PositionInput& input, uint32_t start_frame, const Vec3& start_m) {
-    std::optional<SegmentFit> best = longest_fit(input, start_frame, start_m, false);
-    if (input.has_gravity) {
-        auto with_gravity = longest_fit(input, start_frame, start_m, true);
-        if (better(with_gravity, best)) best = with_gravity;
+// The longest segment of any shape; on equal lengths the cheaper shape, tried first.
+SegmentFit next_segment(const PositionInput& input, uint32_t start_frame, const Vec3& start_m,
+                        const PreviousFit& previous) {
+    std::optional<SegmentFit> best;
+    for (Shape shape : {Shape::straight, Shape::gravity, Shape::curved}) {
+        if (shape == Shape::gravity && !input.has_gravity) continue;
+        auto fit = longest_fit(input, start_frame, start_m, previous, shape);
+        if (better(fit, best)) best = fit;
     }
     if (best) return *best;
     // Only reachable when a one-frame jump overflows the step range: store the frame exactly.
@@ -127,9 +123,10 @@ SegmentFit next_segment(const PositionInput& input, uint32_t start_frame, const 
 StartKey make_start_key(const PositionInput& input) {
     const Vec3 first = input_frame(input, 0);
     StartKey key;
-    if (auto steps = quantize(first, input.step_m, kMaxStartSteps)) {
+    const double step_m = start_key_step(2, input.step_m);
+    if (auto steps = quantize(first, step_m, kMaxStartSteps)) {
         key.steps = *steps;
-        key.position_m = dequantize(*steps, input.step_m);
+        key.position_m = dequantize(*steps, step_m);
         if (norm(sub(key.position_m, first)) <= input.tolerance_m) return key;
     }
     key.raw = true;
@@ -140,10 +137,13 @@ StartKey make_start_key(const PositionInput& input) {
 std::vector<SegmentFit> plan_segments(const PositionInput& input, const Vec3& start_m) {
     std::vector<SegmentFit> segments;
     Vec3 position = start_m;
+    PreviousFit previous;
     for (uint32_t frame = 0; frame + 1 < input.frame_count;) {
-        segments.push_back(next_segment(input, frame, position));
-        frame += segments.back().length;
-        position = segments.back().end_m;
+        const SegmentFit& segment = segments.emplace_back(next_segment(input, frame, position, previous));
+        frame += segment.length;
+        position = segment.end_m;
+        // Mirrors FitSegmentWriter's prediction state.
+        previous = segment.raw ? PreviousFit{} : PreviousFit{segment.steps, segment.bulge, segment.length};
     }
     return segments;
 }
@@ -186,7 +186,7 @@ void write_start_key(BitWriter& writer, const StartKey& key) {
 }
 
 void write_segments(BitWriter& writer, const std::vector<SegmentFit>& segments,
-                    uint32_t frame_count, bool any_gravity) {
+                    uint32_t frame_count, bool any_gravity, bool any_curved) {
     FitSegmentWriter fit_writer;
     uint32_t frame = 0;
     for (const SegmentFit& segment : segments) {
@@ -198,7 +198,9 @@ void write_segments(BitWriter& writer, const std::vector<SegmentFit>& segments,
             continue;
         }
         if (any_gravity) writer.write_bit(segment.gravity);
-        fit_writer.write(writer, frame + 1 == frame_count, segment.length, segment.steps);
+        if (any_curved) writer.write_bit(segment.curved);
+        fit_writer.write(writer, frame + 1 == frame_count, segment.length, segment.steps, segment.curved,
+                         segment.bulge);
     }
 }
 
@@ -212,8 +214,9 @@ std::vector<uint8_t> encode_position_track(const double* xyz_m, uint32_t frame_c
         make_input(xyz_m, frame_count, frame_dt_s, gravity_m_s2, error_max_m, exponent);
 
     BitWriter writer;
-    write_track_header(writer, kPositionTrackFormatV1, frame_count, exponent);
+    write_track_header(writer, kPositionTrackFormatV2, frame_count, exponent);
     if (frame_count == 0) {
+        writer.write_bit(false);
         writer.write_bit(false);
         return writer.take_bytes();
     }
@@ -221,6 +224,8 @@ std::vector<uint8_t> encode_position_track(const double* xyz_m, uint32_t frame_c
     const std::vector<SegmentFit> segments = plan_segments(input, start.position_m);
     const bool any_gravity = std::any_of(segments.begin(), segments.end(),
                                          [](const SegmentFit& s) { return s.gravity; });
+    const bool any_curved = std::any_of(segments.begin(), segments.end(),
+                                        [](const SegmentFit& s) { return s.curved; });
     writer.write_bit(any_gravity);
     if (any_gravity) {
         // Gravity is usually along one axis: a presence bit per axis saves two float32.
@@ -229,8 +234,9 @@ std::vector<uint8_t> encode_position_track(const double* xyz_m, uint32_t frame_c
             if (value != 0) writer.write_float(static_cast<float>(value));
         }
     }
+    writer.write_bit(any_curved);
     write_start_key(writer, start);
-    write_segments(writer, segments, frame_count, any_gravity);
+    write_segments(writer, segments, frame_count, any_gravity, any_curved);
     return writer.take_bytes();
 }
 

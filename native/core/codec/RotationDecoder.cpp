@@ -34,24 +34,27 @@ RotationTrackDecoder::RotationTrackDecoder(const uint8_t* data, size_t size) { p
 
 void RotationTrackDecoder::parse(const uint8_t* data, size_t size) {
     BitReader reader(data, size);
-    const TrackHeader header = read_track_header(reader, kRotationTrackFormatV1);
+    const TrackHeader header = read_track_header(reader, kRotationTrackFormatV1, kRotationTrackFormatV2);
     frame_count_ = header.frame_count;
     step_rad_ = header.step;
-    if (frame_count_ > 0) start_ = read_start(reader, step_rad_);
+    const bool has_curves = header.format >= 2 && reader.read_bit();
+    if (frame_count_ > 0) start_ = read_start(reader, start_key_step(header.format, step_rad_));
 
     FitSegmentReader fit_reader;
     Quat rotation = start_;
     // Each segment covers at least one frame, so the loop ends after at most frame_count - 1
     // rounds, and each round consumes input, so a corrupted count cannot make it spin.
     for (uint32_t frame = 0; frame + 1 < frame_count_;) {
-        Segment segment{frame, 1, reader.read_bit(), {}, rotation};
+        Segment segment{frame, 1, reader.read_bit(), {}, {}, rotation};
         if (segment.raw) {
             segment.origin = read_unit_quaternion(reader);
             fit_reader.reset_prediction();
         } else {
-            const FitSegment fit = fit_reader.read(reader, frame_count_ - 1 - frame);
+            const bool curved = has_curves && reader.read_bit();
+            const FitSegment fit = fit_reader.read(reader, frame_count_ - 1 - frame, curved);
             segment.length = fit.length;
             segment.steps = fit.steps;
+            segment.bulge = fit.bulge;
         }
         segments_.push_back(segment);
         rotation = evaluate(segment, segment.length);
@@ -62,7 +65,7 @@ void RotationTrackDecoder::parse(const uint8_t* data, size_t size) {
 
 Quat RotationTrackDecoder::evaluate(const Segment& segment, uint32_t frame_in_segment) const {
     if (segment.raw) return segment.origin;
-    return rotation_on_segment(segment.origin, segment.steps, step_rad_, segment.length,
+    return rotation_on_segment(segment.origin, segment.steps, segment.bulge, step_rad_, segment.length,
                                frame_in_segment);
 }
 

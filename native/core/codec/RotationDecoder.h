@@ -11,7 +11,7 @@
 namespace mwb {
 
 /// A parsed orientation track. Construction reads and validates the whole buffer once and keeps a
-/// table of segments (72 bytes each), so frames can then be decoded in any order. Decoded
+/// table of segments (96 bytes each), so frames can then be decoded in any order. Decoded
 /// quaternions are unit (w, x, y, z) and free of sign flips after frame 0 (consecutive frames
 /// have a non-negative dot product unless the rotation itself jumps by more than pi).
 /// Const member functions may be called from several threads at once.
@@ -41,6 +41,7 @@ private:
         uint32_t length;
         bool raw;
         SegmentSteps steps;
+        SegmentSteps bulge;  // zero unless curved
         Quat origin;  // decoded orientation at first_frame, or the exact frame value if raw
     };
 

@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <optional>
 #include <stdexcept>
+#include <utility>
+#include <cstdlib>
 
 #include "codec/BitWriter.h"
 #include "codec/CodecFormat.h"
@@ -57,6 +59,79 @@ auto longest_greedy_fit(uint32_t max_length, FitLength fit_length) {
     return best;
 }
 
+/// Least-squares sums of a segment's offsets r_j from its start (j = 1..L) against the basis of
+/// CodecFormat.h: u = j / L and b = u (1 - u).
+struct SegmentSums {
+    double uu = 0, ub = 0, bb = 0, uuu = 0, uuuu = 0;
+    Vec3 ur{0, 0, 0}, br{0, 0, 0}, uur{0, 0, 0};
+    Vec3 last{0, 0, 0};  ///< offset of the last frame added
+
+    void add(double u, const Vec3& r) {
+        const double b = u * (1 - u);
+        uu += u * u;
+        ub += u * b;
+        bb += b * b;
+        uuu += u * u * u;
+        uuuu += u * u * u * u;
+        for (int k = 0; k < 3; ++k) {
+            ur[k] += u * r[k];
+            br[k] += b * r[k];
+            uur[k] += u * u * r[k];
+        }
+        last = r;
+    }
+};
+
+/// Tries the quantized end and bulge candidates of one segment of `length` frames and returns the
+/// best that `check(end_steps, bulge_steps)` (-> std::optional<Fit>, Fit having `end_error`)
+/// accepts. The first candidate keeps the speed the previous segment ended with, so its end costs
+/// almost nothing to code; it wins whenever it fits. The others, from least squares with the start
+/// fixed, from interpolating the last frame, and halfway between, compete on the end error, which
+/// helps the next segment. Curved candidates also fit a bulge; a one-frame segment has no middle
+/// and is fitted straight.
+template <class Check>
+auto best_segment_candidate(const SegmentSums& sums, bool curved, const PreviousFit& previous, uint32_t length,
+                            double step, Check check) {
+    curved = curved && sums.uu * sums.bb - sums.ub * sums.ub > 0;
+    const double bulge_step = kBulgeStepRatio * step;
+    SegmentSteps continued_bulge{};
+    if (curved) {
+        // Keeping the speed V, the end is V - C and r_j = u V - u^2 C: least squares for C.
+        const Vec3 continued = dequantize(predict_end_steps(previous, length, {}), step);
+        const Vec3 bulge = scale(sub(scale(continued, sums.uuu), sums.uur), 1 / sums.uuuu);
+        if (auto q = quantize(bulge, bulge_step, kMaxSegmentSteps)) continued_bulge = *q;
+    }
+    auto best = check(predict_end_steps(previous, length, continued_bulge), continued_bulge);
+    if (best) return best;
+
+    Vec3 ends[3], bulges[3] = {};
+    if (!curved) {
+        ends[0] = scale(sums.ur, 1 / sums.uu);
+        ends[1] = sums.last;
+    } else {
+        const double determinant = sums.uu * sums.bb - sums.ub * sums.ub;
+        for (int k = 0; k < 3; ++k) {
+            ends[0][k] = (sums.bb * sums.ur[k] - sums.ub * sums.br[k]) / determinant;
+            bulges[0][k] = (sums.uu * sums.br[k] - sums.ub * sums.ur[k]) / determinant;
+            ends[1][k] = sums.last[k];
+            bulges[1][k] = (sums.br[k] - sums.ub * sums.last[k]) / sums.bb;
+        }
+    }
+    ends[2] = scale(add(ends[0], ends[1]), 0.5);
+    bulges[2] = scale(add(bulges[0], bulges[1]), 0.5);
+    std::optional<std::pair<SegmentSteps, SegmentSteps>> tried[3];
+    for (int c = 0; c < 3; ++c) {
+        const auto end = quantize(ends[c], step, kMaxSegmentSteps);
+        const auto bulge = quantize(bulges[c], bulge_step, kMaxSegmentSteps);
+        if (!end || !bulge) continue;
+        tried[c] = std::make_pair(*end, *bulge);
+        if (std::find(tried, tried + c, tried[c]) != tried + c) continue;
+        auto fit = check(*end, *bulge);
+        if (fit && (!best || fit->end_error < best->end_error)) best = fit;
+    }
+    return best;
+}
+
 /// Writes tag, frame count and step exponent of a track.
 inline void write_track_header(BitWriter& writer, uint8_t tag, uint32_t frame_count, int exponent) {
     writer.write_bits(tag, 8);
@@ -85,32 +160,35 @@ inline int step_exponent_for(double bound, double fraction) {
     return exponent;
 }
 
-/// Writes fit segment bodies in track order: the last bit, the length unless last, and the step
-/// residuals against the prediction, with adaptive Rice state mirrored by FitSegmentReader.
+/// Writes fit segment bodies in track order: the last bit, the length unless last, the bulge
+/// when `curved` (format 2's curved segments), and the end step residuals against the
+/// prediction, with adaptive Rice state mirrored by FitSegmentReader.
 class FitSegmentWriter {
 public:
-    void write(BitWriter& writer, bool last, uint32_t length, const SegmentSteps& steps) {
+    void write(BitWriter& writer, bool last, uint32_t length, const SegmentSteps& steps, bool curved,
+               const SegmentSteps& bulge) {
         writer.write_bit(last);
         if (!last) lengths_.write_unsigned(writer, length - 1);
-        const SegmentSteps predicted = predict_segment_steps(previous_, previous_length_, length);
+        const SegmentSteps used_bulge = curved ? bulge : SegmentSteps{};
+        // Bulges of successive segments were found to be unrelated: coded as they are.
+        if (curved) for (int k = 0; k < 3; ++k) bulges_[k].write_signed(writer, bulge[k]);
+        const SegmentSteps predicted = predict_end_steps(previous_, length, used_bulge);
         for (int k = 0; k < 3; ++k) residuals_[k].write_signed(writer, steps[k] - predicted[k]);
-        previous_ = steps;
-        previous_length_ = length;
+        previous_ = {steps, used_bulge, length};
     }
 
     /// A raw segment restarts the prediction from zero.
-    void reset_prediction() {
-        previous_ = {};
-        previous_length_ = 1;
-    }
+    void reset_prediction() { previous_ = {}; }
 
 private:
     AdaptiveRice lengths_{kLengthRiceInitialK};
     AdaptiveRice residuals_[3] = {AdaptiveRice(kResidualRiceInitialK),
                                   AdaptiveRice(kResidualRiceInitialK),
                                   AdaptiveRice(kResidualRiceInitialK)};
-    SegmentSteps previous_{};
-    uint32_t previous_length_ = 1;
+    AdaptiveRice bulges_[3] = {AdaptiveRice(kResidualRiceInitialK),
+                               AdaptiveRice(kResidualRiceInitialK),
+                               AdaptiveRice(kResidualRiceInitialK)};
+    PreviousFit previous_;
 };
 
 }  // namespace mwb

@@ -16,7 +16,9 @@ namespace mwb {
 /// 1: the original layout. 2: adds the refinement lineage (root world, branch steps, bodies).
 /// 3: lineage steps add and remove bodies; the world lists the scene bodies it does not have.
 /// 4: checkpoints keep each body's quiet time (sleeping).
-constexpr uint32_t kWorldRecordVersion = 4;
+/// 5: 4's layout; tracks may be of codec format 2 (curved segments), which older builds cannot
+///    decode, so they skip such records with a message instead of failing on the tracks.
+constexpr uint32_t kWorldRecordVersion = 5;
 constexpr uint32_t kOldestWorldRecordVersion = 1;
 constexpr uint32_t kRejectionRecordVersion = 1;
 
