@@ -2,8 +2,10 @@
 and frame range against our time per world when sampling many worlds on all cores, side by side.
 
 blender -b blend_examples/NAME/NAME.blend --python tests/bench/bench_examples.py -- WORLDS
-Prints a table and `BENCH sample_worlds_per_min_NAME`, `BENCH bullet_speedup_NAME` and
-`BENCH sleep_speedup_NAME` (the same sampling with sleeping off, divided by on).
+Prints a table and `BENCH sample_worlds_per_min_NAME`, `BENCH bullet_speedup_NAME`,
+`BENCH sleep_speedup_NAME` (the same sampling with sleeping off, divided by on) and
+`BENCH prefix_speedup_NAME` (with shared prefixes off, divided by on; they apply only to scenes
+whose initial states do not vary).
 Both sides simulate the whole frame range (the engine without stopping at rest).
 """
 import os
@@ -36,10 +38,11 @@ def bullet_bake_seconds(scene):
     return elapsed
 
 
-def engine_seconds_per_world(scene_json, worlds, folder, sleep=True):
-    library = os.path.join(folder, f"bench_{'sleep' if sleep else 'awake'}.mwb")
+def engine_seconds_per_world(scene_json, worlds, folder, sleep=True, share_prefix=True):
+    library = os.path.join(folder, f"bench_{'sleep' if sleep else 'awake'}_{'shared' if share_prefix else 'alone'}.mwb")
     command = [paths.engine_path(), "sample", "--scene", scene_json, "--out", library, "--worlds", f"0:{worlds}",
-               "--no-stop-at-rest", "--threads", str(os.cpu_count())] + ([] if sleep else ["--no-sleep"])
+               "--no-stop-at-rest", "--threads", str(os.cpu_count())] + ([] if sleep else ["--no-sleep"]) + (
+               [] if share_prefix else ["--no-shared-prefix"])
     start = time.perf_counter()
     subprocess.run(command, check=True, capture_output=True)
     return (time.perf_counter() - start) / worlds
@@ -47,7 +50,8 @@ def engine_seconds_per_world(scene_json, worlds, folder, sleep=True):
 
 def measure(name, worlds):
     """Times Blender's bake of the open scene against our sampling of it (with and without
-    sleeping) and prints the figures; shared with bench_fracture.py."""
+    sleeping, with and without shared prefixes) and prints the figures; shared with
+    bench_fracture.py."""
     many_worlds.register()
     result, problems = export_and_validate(bpy.context)
     if result.scene is None or problems:
@@ -58,14 +62,18 @@ def measure(name, worlds):
             f.write(result.to_json())
         ours = engine_seconds_per_world(scene_json, worlds, folder)
         awake = engine_seconds_per_world(scene_json, worlds, folder, sleep=False)
+        alone = engine_seconds_per_world(scene_json, worlds, folder, share_prefix=False)
+        varies = any(body.get("variation") for body in result.scene["bodies"])
     bullet = bullet_bake_seconds(bpy.context.scene)
     frames = bpy.context.scene.frame_end - bpy.context.scene.frame_start + 1
     print(f"{name}: {frames} frames; Bullet bake {bullet:.3f} s per world (1 thread); "
           f"ours {ours:.3f} s per world sampling {worlds} worlds on {os.cpu_count()} cores "
-          f"({awake:.3f} s without sleeping)")
+          f"({awake:.3f} s without sleeping, {alone:.3f} s without shared prefixes, which "
+          f"{'do not apply: initial states vary' if varies else 'apply: no initial state varies'})")
     print(f"BENCH sample_worlds_per_min_{name} {60.0 / ours:.6g}")
     print(f"BENCH bullet_speedup_{name} {bullet / ours:.6g}")
     print(f"BENCH sleep_speedup_{name} {awake / ours:.6g}")
+    print(f"BENCH prefix_speedup_{name} {alone / ours:.6g}")
 
 
 if __name__ == "__main__":
