@@ -183,6 +183,24 @@ TEST(PositionCodec, CircularMotionStaysWithinBound) {
     for (double bound : kBounds) round_trip(xyz, bound);
 }
 
+TEST(PositionCodec, ArcsAreCoveredByLongerSegmentsThanChords) {
+    // A link's centre 0.125 m from its joint, swinging round at half a turn per second, is
+    // accelerated sideways all the time. A straight segment is a chord, whose middle sags
+    // r (1 - cos(a / 2)) from an arc of angle a, so within the bound it spans at most
+    // a = 2 acos(1 - e / r); curved segments must cover at least twice that.
+    const double radius_m = 0.125, turn_rad_per_frame = M_PI * kDt;
+    Track xyz;
+    for (uint32_t i = 0; i < 600; ++i) {
+        const double angle = turn_rad_per_frame * i;
+        push(xyz, {0.4 + radius_m * std::sin(angle), -1.0, 3.0 - radius_m * std::cos(angle)});
+    }
+    for (double bound : kBounds) {
+        const double chord_frames = 2 * std::acos(1 - bound / radius_m) / turn_rad_per_frame;
+        const double straight_segments = (frames_of(xyz) - 1) / std::max(1.0, chord_frames);
+        EXPECT_LT(double(round_trip(xyz, bound).segment_count()), straight_segments / 2) << "bound " << bound;
+    }
+}
+
 TEST(PositionCodec, RestingBodyCostsAFewBytes) {
     const Track xyz = rest(1200, {1.25, -3.5, 0.75});
     for (double bound : kBounds) {
@@ -258,14 +276,16 @@ void expect_safe_decode(const std::vector<uint8_t>& bytes, uint32_t original_fra
 }
 
 TEST(PositionCodec, BitFlipsNeverCrash) {
+    // Gravity segments (a bouncing ball) and curved ones (a circle).
     int bounces = 0;
-    const Track xyz = bouncing_ball(600, bounces);
-    const std::vector<uint8_t> bytes =
-        encode_position_track(xyz.data(), frames_of(xyz), kDt, kGravity, 1e-3);
-    for (size_t bit = 0; bit < 8 * bytes.size(); ++bit) {
-        std::vector<uint8_t> flipped = bytes;
-        flipped[bit / 8] ^= static_cast<uint8_t>(1u << (bit % 8));
-        expect_safe_decode(flipped, frames_of(xyz));
+    for (const Track& xyz : {bouncing_ball(600, bounces), circle(240)}) {
+        const std::vector<uint8_t> bytes =
+            encode_position_track(xyz.data(), frames_of(xyz), kDt, kGravity, 1e-3);
+        for (size_t bit = 0; bit < 8 * bytes.size(); ++bit) {
+            std::vector<uint8_t> flipped = bytes;
+            flipped[bit / 8] ^= static_cast<uint8_t>(1u << (bit % 8));
+            expect_safe_decode(flipped, frames_of(xyz));
+        }
     }
 }
 
@@ -274,7 +294,8 @@ TEST(PositionCodec, RandomBytesNeverCrash) {
     for (int trial = 0; trial < 2000; ++trial) {
         std::vector<uint8_t> bytes(1 + random() % 48);
         for (uint8_t& b : bytes) b = static_cast<uint8_t>(random());
-        bytes[0] = kPositionTrackFormatV1;  // a valid tag gets the parser past the first check
+        // A valid tag (of either format) gets the parser past the first check.
+        bytes[0] = trial % 2 ? kPositionTrackFormatV1 : kPositionTrackFormatV2;
         expect_safe_decode(bytes, 1000);
     }
 }

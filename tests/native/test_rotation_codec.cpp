@@ -154,6 +154,24 @@ TEST(RotationCodec, SteadySpinIsOneSegment) {
     }
 }
 
+TEST(RotationCodec, SpinningUpIsCoveredByFarLongerSegmentsThanStraightOnes) {
+    // Angle a t^2 / 2 about a fixed axis: interpolating it linearly over T seconds misses by up to
+    // a T^2 / 8, so straight segments span at most sqrt(8 e / a); curved ones must cover several
+    // times that (a constant angular acceleration is exactly what a bulge describes).
+    const double acceleration_rad_s2 = 20;
+    const Vec3 axis = unit({0.3, 1.0, -0.5});
+    Track wxyz;
+    for (uint32_t i = 0; i < 360; ++i) {
+        const double t = i * kDt;
+        push(wxyz, quat_from_axis_angle(axis, acceleration_rad_s2 * t * t / 2));
+    }
+    for (double bound : kBounds) {
+        const double straight_frames = std::sqrt(8 * bound / acceleration_rad_s2) / kDt;
+        const double straight_segments = (frames_of(wxyz) - 1) / std::max(1.0, straight_frames);
+        EXPECT_LT(double(round_trip(wxyz, bound).segment_count()), straight_segments / 3) << "bound " << bound;
+    }
+}
+
 TEST(RotationCodec, FastSpinBeyondHalfATurnPerFrameSegmentIsUnwrapped) {
     // 300 rad/s is 2.5 rad per frame: every segment turns many times round.
     const Track wxyz = spin(600, {1, 1, 0}, 300.0, {1, 0, 0, 0});
@@ -280,7 +298,8 @@ TEST(RotationCodec, RandomBytesNeverCrash) {
     for (int trial = 0; trial < 2000; ++trial) {
         std::vector<uint8_t> bytes(1 + random() % 48);
         for (uint8_t& b : bytes) b = static_cast<uint8_t>(random());
-        bytes[0] = kRotationTrackFormatV1;  // a valid tag gets the parser past the first check
+        // A valid tag (of either format) gets the parser past the first check.
+        bytes[0] = trial % 2 ? kRotationTrackFormatV1 : kRotationTrackFormatV2;
         expect_safe_decode(bytes, 1000);
     }
 }
