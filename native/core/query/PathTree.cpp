@@ -50,7 +50,49 @@ std::array<Vec3, 3> principal_axes(std::array<double, 9> a) {
     return {x, y, cross(x, y)};
 }
 
+// The unit quaternion turning the world axes onto `axes` (a right-handed orthonormal frame).
+Quat rotation_onto(const std::array<Vec3, 3>& axes) {
+    // m[r][c]: column c is axes[c].
+    const double m00 = axes[0][0], m11 = axes[1][1], m22 = axes[2][2];
+    const double trace = m00 + m11 + m22;
+    Quat q;
+    if (trace > 0) {
+        const double s = 2 * std::sqrt(1 + trace);
+        q = {s / 4, (axes[1][2] - axes[2][1]) / s, (axes[2][0] - axes[0][2]) / s, (axes[0][1] - axes[1][0]) / s};
+    } else if (m00 > m11 && m00 > m22) {
+        const double s = 2 * std::sqrt(1 + m00 - m11 - m22);
+        q = {(axes[1][2] - axes[2][1]) / s, s / 4, (axes[1][0] + axes[0][1]) / s, (axes[2][0] + axes[0][2]) / s};
+    } else if (m11 > m22) {
+        const double s = 2 * std::sqrt(1 + m11 - m00 - m22);
+        q = {(axes[2][0] - axes[0][2]) / s, (axes[1][0] + axes[0][1]) / s, s / 4, (axes[2][1] + axes[1][2]) / s};
+    } else {
+        const double s = 2 * std::sqrt(1 + m22 - m00 - m11);
+        q = {(axes[0][1] - axes[1][0]) / s, (axes[2][0] + axes[0][2]) / s, (axes[2][1] + axes[1][2]) / s, s / 4};
+    }
+    return quat_normalized(q);
+}
+
 }  // namespace
+
+std::array<Vec3, 3> PathTree::axes_of(const Node& node) {
+    const Quat q = quat_normalized({node.rotation[0] / 32767.0, node.rotation[1] / 32767.0, node.rotation[2] / 32767.0,
+                                    node.rotation[3] / 32767.0});
+    const double w = q[0], x = q[1], y = q[2], z = q[3];
+    // The columns of the rotation matrix: the images of the world axes.
+    return {Vec3{1 - 2 * (y * y + z * z), 2 * (x * y + w * z), 2 * (x * z - w * y)},
+            Vec3{2 * (x * y - w * z), 1 - 2 * (x * x + z * z), 2 * (y * z + w * x)},
+            Vec3{2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)}};
+}
+
+bool PathTree::splits(uint32_t first, uint32_t last, int depth) {
+    return depth < kMaxDepth && last - first >= kMinSegmentsToSplit;
+}
+
+uint32_t PathTree::subtree_nodes(uint32_t first, uint32_t last, int depth) {
+    if (!splits(first, last, depth)) return 1;
+    const uint32_t middle = first + (last - first) / 2;
+    return 1 + subtree_nodes(first, middle, depth + 1) + subtree_nodes(middle, last, depth + 1);
+}
 
 PathTree::PathTree(std::vector<float> points, uint32_t stride, uint32_t last_frame, double record_hz,
                    double hold_until_s)
@@ -92,8 +134,8 @@ size_t PathTree::memory_bytes() const {
     return sizeof(*this) + points_.capacity() * sizeof(uint16_t) + nodes_.capacity() * sizeof(Node);
 }
 
-int32_t PathTree::build(uint32_t first, uint32_t last, int depth) {
-    const auto index = static_cast<int32_t>(nodes_.size());
+void PathTree::build(uint32_t first, uint32_t last, int depth) {
+    const size_t index = nodes_.size();
     nodes_.push_back({});
     // Principal axes of the points, then the box of their extents along them.
     Vec3 mean{0, 0, 0};
@@ -106,7 +148,10 @@ int32_t PathTree::build(uint32_t first, uint32_t last, int depth) {
         for (int r = 0; r < 3; ++r)
             for (int c = 0; c < 3; ++c) covariance[3 * r + c] += d[r] * d[c];
     }
-    const std::array<Vec3, 3> axes = principal_axes(covariance);
+    Node node;
+    const Quat rotation = rotation_onto(principal_axes(covariance));
+    for (int c = 0; c < 4; ++c) node.rotation[c] = static_cast<int16_t>(std::lround(rotation[c] * 32767.0));
+    const std::array<Vec3, 3> axes = axes_of(node);
     Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
     for (uint32_t k = first; k <= last; ++k) {
         const Vec3 d = sub(point(k), mean);
@@ -115,34 +160,25 @@ int32_t PathTree::build(uint32_t first, uint32_t last, int depth) {
             hi[a] = std::max(hi[a], dot(d, axes[a]));
         }
     }
-    Node node;
     Vec3 center = mean;
     for (int a = 0; a < 3; ++a) center = add(center, scale(axes[a], (lo[a] + hi[a]) / 2));
-    // Stored in single precision: the box is re-measured around the rounded centre and axes, and
-    // padded for the rounding of the axes, so every point stays inside the stored box.
-    for (int a = 0; a < 3; ++a) {
-        node.center[a] = static_cast<float>(center[a]);
-        for (int c = 0; c < 3; ++c) node.axes[3 * a + c] = static_cast<float>(axes[a][c]);
-    }
+    // The box is re-measured around the centre as stored, and padded for the single-precision
+    // rounding of the extents.
+    for (int a = 0; a < 3; ++a) node.center[a] = static_cast<float>(center[a]);
     const Vec3 stored_center{node.center[0], node.center[1], node.center[2]};
     double reach = 0;
     for (uint32_t k = first; k <= last; ++k) reach = std::max(reach, norm(sub(point(k), stored_center)));
     for (int a = 0; a < 3; ++a) {
-        const Vec3 stored_axis{node.axes[3 * a], node.axes[3 * a + 1], node.axes[3 * a + 2]};
         double extent = 0;
-        for (uint32_t k = first; k <= last; ++k) extent = std::max(extent, std::fabs(dot(sub(point(k), stored_center), stored_axis)));
+        for (uint32_t k = first; k <= last; ++k) extent = std::max(extent, std::fabs(dot(sub(point(k), stored_center), axes[a])));
         node.half_extents[a] = static_cast<float>(extent * (1 + 1e-6) + 1e-6 * (1 + reach));
     }
-    node.first_point = first;
-    node.last_point = last;
-    node.children[0] = node.children[1] = -1;
-    if (depth < kMaxDepth && last - first >= kMinSegmentsToSplit) {
+    nodes_[index] = node;
+    if (splits(first, last, depth)) {
         const uint32_t middle = first + (last - first) / 2;  // children share the middle point
-        node.children[0] = static_cast<int16_t>(build(first, middle, depth + 1));
-        node.children[1] = static_cast<int16_t>(build(middle, last, depth + 1));
+        build(first, middle, depth + 1);
+        build(middle, last, depth + 1);
     }
-    nodes_[static_cast<size_t>(index)] = node;
-    return index;
 }
 
 bool PathTree::touches(const Frustum& frustum, const TimeWindow& window, double radius) const {
@@ -173,30 +209,30 @@ double PathTree::segments_first_touch(uint32_t first, uint32_t last, const Frust
     return std::numeric_limits<double>::infinity();
 }
 
-double PathTree::node_first_touch(int32_t index, const Frustum& frustum, double t_lo, double t_hi,
-                                  double radius) const {
-    const Node& node = nodes_[static_cast<size_t>(index)];
-    const double start = time_of(node.first_point), end = end_of(node.last_point);
+double PathTree::node_first_touch(uint32_t index, uint32_t first, uint32_t last, int depth, const Frustum& frustum,
+                                  double t_lo, double t_hi, double radius) const {
+    const Node& node = nodes_[index];
+    const double start = time_of(first), end = end_of(last);
     if (end < t_lo || start > t_hi) return std::numeric_limits<double>::infinity();
-    const int side = frustum.classify_box(
-        {node.center[0], node.center[1], node.center[2]},
-        {Vec3{node.axes[0], node.axes[1], node.axes[2]}, Vec3{node.axes[3], node.axes[4], node.axes[5]},
-         Vec3{node.axes[6], node.axes[7], node.axes[8]}},
-        {node.half_extents[0], node.half_extents[1], node.half_extents[2]}, radius);
+    const int side = frustum.classify_box({node.center[0], node.center[1], node.center[2]}, axes_of(node),
+                                          {node.half_extents[0], node.half_extents[1], node.half_extents[2]}, radius);
     if (side < 0) return std::numeric_limits<double>::infinity();
     // Wholly inside: the path touches from the first moment of the node within the window.
     if (side > 0) return std::max(start, t_lo);
-    if (node.children[0] < 0) return segments_first_touch(node.first_point, node.last_point, frustum, t_lo, t_hi, radius);
-    // The first child holds the earlier part of the path.
-    const double early = node_first_touch(node.children[0], frustum, t_lo, t_hi, radius);
-    return std::isfinite(early) ? early : node_first_touch(node.children[1], frustum, t_lo, t_hi, radius);
+    if (!splits(first, last, depth)) return segments_first_touch(first, last, frustum, t_lo, t_hi, radius);
+    // The first child holds the earlier part of the path; the second follows its subtree.
+    const uint32_t middle = first + (last - first) / 2;
+    const double early = node_first_touch(index + 1, first, middle, depth + 1, frustum, t_lo, t_hi, radius);
+    if (std::isfinite(early)) return early;
+    return node_first_touch(index + 1 + subtree_nodes(first, middle, depth + 1), middle, last, depth + 1, frustum, t_lo,
+                            t_hi, radius);
 }
 
 double PathTree::first_touch_time(const Frustum& frustum, const TimeWindow& window, double radius) const {
     if (nodes_.empty()) return -1;
     const double lo = window.empty() ? -std::numeric_limits<double>::infinity() : window.lo_s;
     const double hi = window.empty() ? std::numeric_limits<double>::infinity() : window.hi_s;
-    const double t = node_first_touch(0, frustum, lo, hi, radius);
+    const double t = node_first_touch(0, 0, static_cast<uint32_t>(point_count() - 1), 0, frustum, lo, hi, radius);
     return std::isfinite(t) ? t : -1;
 }
 

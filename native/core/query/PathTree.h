@@ -51,18 +51,25 @@ public:
     size_t memory_bytes() const;
 
 private:
-    // Single precision halves the tree's size; the extents are padded to cover the rounding.
+    // 32 bytes a node: single-precision centre and extents, the axes as a rotation quantized to
+    // 16 bits per component. The box is measured around the axes as the query rebuilds them, and
+    // padded for the single-precision rounding, so every point stays inside it. Which points a
+    // node covers and whether it has children follow from the point count (nodes are in
+    // depth-first order, each range split at its middle), so they are not stored.
     struct Node {
         std::array<float, 3> center;
-        std::array<float, 9> axes;  ///< three unit axes, row after row
+        std::array<int16_t, 4> rotation;  ///< w, x, y, z of a unit quaternion, times 32767
         std::array<float, 3> half_extents;
-        uint32_t first_point, last_point;  ///< covers segments first_point .. last_point - 1
-        int16_t children[2];               ///< -1 for leaves
     };
+    static std::array<Vec3, 3> axes_of(const Node& node);
+    static bool splits(uint32_t first, uint32_t last, int depth);
+    /// Nodes of the subtree over points first..last at `depth`.
+    static uint32_t subtree_nodes(uint32_t first, uint32_t last, int depth);
 
     void quantize(const std::vector<float>& points);
-    int32_t build(uint32_t first, uint32_t last, int depth);
-    double node_first_touch(int32_t node, const Frustum& frustum, double t_lo, double t_hi, double radius) const;
+    void build(uint32_t first, uint32_t last, int depth);
+    double node_first_touch(uint32_t node, uint32_t first, uint32_t last, int depth, const Frustum& frustum,
+                            double t_lo, double t_hi, double radius) const;
     /// Earliest touching time over segments first..last (and the held pose after the last point),
     /// or +infinity.
     double segments_first_touch(uint32_t first, uint32_t last, const Frustum& frustum, double t_lo, double t_hi,
