@@ -71,7 +71,6 @@ inline Scene pile(int count, double duration_frames = 73) {
     return s;
 }
 
-/// A passive triangle-mesh ramp (two triangles) tilted 20° with boxes and a jointed pair on it.
 /// A passive triangle-mesh quad (two triangles) through four corners, counter-clockwise from above.
 inline Body mesh_quad(const std::string& name, const std::vector<double>& corners) {
     Body quad;
@@ -83,6 +82,18 @@ inline Body mesh_quad(const std::string& name, const std::vector<double>& corner
     return quad;
 }
 
+/// A hinge between bodies `a` and `b` about the world Z axis through `pivot`.
+inline Constraint hinge(const std::string& name, const std::string& a, const std::string& b, const Vec3& pivot) {
+    Constraint c;
+    c.name = name;
+    c.type = ConstraintType::Hinge;
+    c.body_a = a;
+    c.body_b = b;
+    c.frame.location = pivot;
+    return c;
+}
+
+/// A passive triangle-mesh ramp (two triangles) tilted 20° with boxes and a jointed pair on it.
 inline Scene mesh_ramp_with_joints() {
     Scene s = pile(6, 48);
     s.name = "mesh_ramp";
@@ -93,14 +104,9 @@ inline Scene mesh_ramp_with_joints() {
     a.variation.location_max_m = {0.1, 0.1, 0};
     s.bodies.push_back(a);
     s.bodies.push_back(b);
-    Constraint hinge;
-    hinge.name = "Link";
-    hinge.type = ConstraintType::Hinge;
-    hinge.body_a = "LinkA";
-    hinge.body_b = "LinkB";
-    hinge.frame.location = {-0.75, 0.0, 1.6};
-    hinge.frame.rotation = quat_from_axis_angle({1, 0, 0}, 1.5707963267948966);  // axis along -Y
-    s.constraints.push_back(hinge);
+    Constraint link = hinge("Link", "LinkA", "LinkB", {-0.75, 0.0, 1.6});
+    link.frame.rotation = quat_from_axis_angle({1, 0, 0}, 1.5707963267948966);  // axis along -Y
+    s.constraints.push_back(link);
     return s;
 }
 

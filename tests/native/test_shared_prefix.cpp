@@ -26,13 +26,7 @@ Scene dropped_pile() {
     s.bodies.push_back(fixtures::sphere("Ball", {0.3, 0.2, 4.5}, 0.15));
     s.bodies.push_back(fixtures::box("LinkA", {-0.6, 0.9, 3.9}));
     s.bodies.push_back(fixtures::box("LinkB", {-0.2, 0.9, 3.9}));
-    Constraint hinge;
-    hinge.name = "Hinge";
-    hinge.type = ConstraintType::Hinge;
-    hinge.body_a = "LinkA";
-    hinge.body_b = "LinkB";
-    hinge.frame.location = {-0.4, 0.9, 3.9};
-    s.constraints.push_back(hinge);
+    s.constraints.push_back(fixtures::hinge("Hinge", "LinkA", "LinkB", {-0.4, 0.9, 3.9}));
     return s;
 }
 
