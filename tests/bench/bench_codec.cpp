@@ -90,6 +90,19 @@ size_t zlib_bytes(const Corpus& c, const CodecBounds& bounds) {
     return size;
 }
 
+double encode_body_frames_per_s(const Corpus& c) {
+    uint64_t frames = 0;
+    const auto start = std::chrono::steady_clock::now();
+    do {
+        for (const Track& t : c.tracks) {
+            encode_position_track(t.positions.data(), frames_of(t), 1.0 / 120, c.gravity, 0.001);
+            encode_rotation_track(t.orientations.data(), frames_of(t), 0.5 * M_PI / 180);
+            frames += frames_of(t);
+        }
+    } while (seconds_since(start) < 0.5);
+    return static_cast<double>(frames) / seconds_since(start);
+}
+
 double decode_body_frames_per_s(const Corpus& c) {
     std::vector<std::vector<uint8_t>> positions, rotations;
     for (const Track& t : c.tracks) {
@@ -132,6 +145,8 @@ int main() {
     report("codec_vs_zlib_ratio", static_cast<double>(our_bytes(corpora[0], defaults)) / zlib_bytes(corpora[0], defaults),
            "x", "headline: 50-body pile");
     report("decode_body_frames_per_s", decode_body_frames_per_s(corpora[0]), "frames/s", "position + rotation, 1 thread");
+    report("encode_body_frames_per_s", encode_body_frames_per_s(corpora[0]), "frames/s", "position + rotation, 1 thread");
+    report("encode_body_frames_per_s_chain", encode_body_frames_per_s(corpora[1]), "frames/s", "position + rotation, 1 thread");
 
     std::ofstream csv("rate_distortion.csv");
     csv << "scene,position_error_max_m,position_bytes_per_body_frame\n";

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
-#include <utility>
 #include <stdexcept>
 
 #include "codec/BitWriter.h"
@@ -75,41 +74,32 @@ std::optional<SegmentFit> check_candidate(const PositionInput& input, uint32_t s
 
 // Fits a segment of exactly `length` frames of the given shape.
 std::optional<SegmentFit> fit_length(const PositionInput& input, uint32_t start_frame, const Vec3& start_m,
-                                     const PreviousFit& previous, Shape shape, uint32_t length) {
+                                     Shape shape, uint32_t length) {
     const Vec3 quadratic = shape == Shape::gravity ? input.quadratic_m : Vec3{0, 0, 0};
     SegmentSums sums;
     for (uint32_t j = 1; j <= length; ++j) {
         const double t = j;
         sums.add(t / length, sub(sub(input_frame(input, start_frame + j), start_m), scale(quadratic, t * t)));
     }
-    return best_segment_candidate(sums, shape == Shape::curved, previous, length, input.step_m,
+    return best_segment_candidate(sums, shape == Shape::curved, input.step_m,
                                   [&](const SegmentSteps& end, const SegmentSteps& bulge) {
                                       return check_candidate(input, start_frame, start_m, shape, length, end, bulge);
                                   });
 }
 
-std::optional<SegmentFit> longest_fit(const PositionInput& input, uint32_t start_frame, const Vec3& start_m,
-                                      const PreviousFit& previous, Shape shape) {
+// The longest segment of any shape; on equal lengths the cheaper shape, tried first. A later
+// shape is only tried on lengths beyond the best so far.
+SegmentFit next_segment(const PositionInput& input, uint32_t start_frame, const Vec3& start_m) {
     const uint32_t max_length = std::min(input.frame_count - 1 - start_frame, kMaxSegmentFrames);
-    return longest_greedy_fit(max_length, [&](uint32_t length) {
-        return fit_length(input, start_frame, start_m, previous, shape, length);
-    });
-}
-
-bool better(const std::optional<SegmentFit>& a, const std::optional<SegmentFit>& b) {
-    if (!b) return a.has_value();
-    if (!a) return false;
-    return a->length > b->length;
-}
-
-// The longest segment of any shape; on equal lengths the cheaper shape, tried first.
-SegmentFit next_segment(const PositionInput& input, uint32_t start_frame, const Vec3& start_m,
-                        const PreviousFit& previous) {
     std::optional<SegmentFit> best;
     for (Shape shape : {Shape::straight, Shape::gravity, Shape::curved}) {
         if (shape == Shape::gravity && !input.has_gravity) continue;
-        auto fit = longest_fit(input, start_frame, start_m, previous, shape);
-        if (better(fit, best)) best = fit;
+        const uint32_t at_least = best ? best->length + 1 : 1;
+        if (at_least > max_length) break;
+        auto fit = longest_greedy_fit(
+            max_length, [&](uint32_t length) { return fit_length(input, start_frame, start_m, shape, length); },
+            at_least);
+        if (fit) best = fit;
     }
     if (best) return *best;
     // Only reachable when a one-frame jump overflows the step range: store the frame exactly.
@@ -137,13 +127,10 @@ StartKey make_start_key(const PositionInput& input) {
 std::vector<SegmentFit> plan_segments(const PositionInput& input, const Vec3& start_m) {
     std::vector<SegmentFit> segments;
     Vec3 position = start_m;
-    PreviousFit previous;
     for (uint32_t frame = 0; frame + 1 < input.frame_count;) {
-        const SegmentFit& segment = segments.emplace_back(next_segment(input, frame, position, previous));
-        frame += segment.length;
-        position = segment.end_m;
-        // Mirrors FitSegmentWriter's prediction state.
-        previous = segment.raw ? PreviousFit{} : PreviousFit{segment.steps, segment.bulge, segment.length};
+        segments.push_back(next_segment(input, frame, position));
+        frame += segments.back().length;
+        position = segments.back().end_m;
     }
     return segments;
 }

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
-#include <utility>
 #include <stdexcept>
 
 #include "codec/BitWriter.h"
@@ -81,7 +80,7 @@ std::optional<SegmentFit> check_candidate(const RotationInput& input, uint32_t s
 // Fits a segment of exactly `length` frames to the unwrapped log of each frame relative to the
 // start.
 std::optional<SegmentFit> fit_length(const RotationInput& input, uint32_t start_frame, const Quat& start,
-                                     const PreviousFit& previous, bool curved, uint32_t length) {
+                                     bool curved, uint32_t length) {
     const Vec3 first = relative_log(input.frames[start_frame + 1], start);
     SegmentSums sums;
     for (uint32_t j = 1; j <= length; ++j) {
@@ -90,28 +89,25 @@ std::optional<SegmentFit> fit_length(const RotationInput& input, uint32_t start_
                                               input.increment_sum[start_frame + 1]));
         sums.add(double(j) / length, unwrap(relative_log(input.frames[start_frame + j], start), reference));
     }
-    return best_segment_candidate(sums, curved, previous, length, input.step_rad,
+    return best_segment_candidate(sums, curved, input.step_rad,
                                   [&](const SegmentSteps& end, const SegmentSteps& bulge) {
                                       return check_candidate(input, start_frame, start, length, end, bulge);
                                   });
 }
 
-std::optional<SegmentFit> longest_fit(const RotationInput& input, uint32_t start_frame, const Quat& start,
-                                      const PreviousFit& previous, bool curved) {
+// The longest segment, straight or curved; on equal lengths the straight one, which is cheaper.
+// Curved ones are only tried on lengths beyond the straight one's.
+SegmentFit next_segment(const RotationInput& input, uint32_t start_frame, const Quat& start) {
     const auto frame_count = static_cast<uint32_t>(input.frames.size());
     const uint32_t max_length = std::min(frame_count - 1 - start_frame, kMaxSegmentFrames);
-    return longest_greedy_fit(max_length, [&](uint32_t length) {
-        return fit_length(input, start_frame, start, previous, curved, length);
-    });
-}
-
-// The longest segment, straight or curved; on equal lengths the straight one, which is cheaper.
-SegmentFit next_segment(const RotationInput& input, uint32_t start_frame, const Quat& start,
-                        const PreviousFit& previous) {
     std::optional<SegmentFit> best;
     for (bool curved : {false, true}) {
-        auto fit = longest_fit(input, start_frame, start, previous, curved);
-        if (fit && (!best || fit->length > best->length)) best = fit;
+        const uint32_t at_least = best ? best->length + 1 : 1;
+        if (at_least > max_length) break;
+        auto fit = longest_greedy_fit(
+            max_length, [&](uint32_t length) { return fit_length(input, start_frame, start, curved, length); },
+            at_least);
+        if (fit) best = fit;
     }
     if (best) return *best;
     // Only reachable when the step is too fine for a single frame's turn: store it exactly.
@@ -142,13 +138,10 @@ StartKey make_start_key(const RotationInput& input) {
 std::vector<SegmentFit> plan_segments(const RotationInput& input, const Quat& start) {
     std::vector<SegmentFit> segments;
     Quat rotation = start;
-    PreviousFit previous;
     for (uint32_t frame = 0; frame + 1 < input.frames.size();) {
-        const SegmentFit& segment = segments.emplace_back(next_segment(input, frame, rotation, previous));
-        frame += segment.length;
-        rotation = segment.end;
-        // Mirrors FitSegmentWriter's prediction state.
-        previous = segment.raw ? PreviousFit{} : PreviousFit{segment.steps, segment.bulge, segment.length};
+        segments.push_back(next_segment(input, frame, rotation));
+        frame += segments.back().length;
+        rotation = segments.back().end;
     }
     return segments;
 }

@@ -28,13 +28,14 @@ inline std::optional<SegmentSteps> quantize(const Vec3& value, double step, int6
 
 /// Greedy segment length: doubles the length while `fit_length(length)` succeeds, then bisects
 /// between the last length that fit and the first that did not. Returns the fit of the longest
-/// length found in 1..max_length (max_length >= 1), or nullopt when even one frame does not fit.
-/// `fit_length(uint32_t)` returns std::optional<Fit>.
+/// length found in at_least..max_length (1 <= at_least <= max_length), or nullopt when even
+/// `at_least` frames do not fit. `fit_length(uint32_t)` returns std::optional<Fit>. A caller that
+/// only wants a fit longer than one it has passes that length + 1, which skips the short probes.
 template <class FitLength>
-auto longest_greedy_fit(uint32_t max_length, FitLength fit_length) {
-    auto best = fit_length(1);
+auto longest_greedy_fit(uint32_t max_length, FitLength fit_length, uint32_t at_least = 1) {
+    auto best = fit_length(at_least);
     if (!best) return best;
-    uint32_t good = 1;
+    uint32_t good = at_least;
     uint32_t bad = 0;
     while (good < max_length) {
         const uint32_t next = std::min(2 * good, max_length);
@@ -62,8 +63,8 @@ auto longest_greedy_fit(uint32_t max_length, FitLength fit_length) {
 /// Least-squares sums of a segment's offsets r_j from its start (j = 1..L) against the basis of
 /// CodecFormat.h: u = j / L and b = u (1 - u).
 struct SegmentSums {
-    double uu = 0, ub = 0, bb = 0, uuu = 0, uuuu = 0;
-    Vec3 ur{0, 0, 0}, br{0, 0, 0}, uur{0, 0, 0};
+    double uu = 0, ub = 0, bb = 0;
+    Vec3 ur{0, 0, 0}, br{0, 0, 0};
     Vec3 last{0, 0, 0};  ///< offset of the last frame added
 
     void add(double u, const Vec3& r) {
@@ -71,39 +72,25 @@ struct SegmentSums {
         uu += u * u;
         ub += u * b;
         bb += b * b;
-        uuu += u * u * u;
-        uuuu += u * u * u * u;
         for (int k = 0; k < 3; ++k) {
             ur[k] += u * r[k];
             br[k] += b * r[k];
-            uur[k] += u * u * r[k];
         }
         last = r;
     }
 };
 
-/// Tries the quantized end and bulge candidates of one segment of `length` frames and returns the
-/// best that `check(end_steps, bulge_steps)` (-> std::optional<Fit>, Fit having `end_error`)
-/// accepts. The first candidate keeps the speed the previous segment ended with, so its end costs
-/// almost nothing to code; it wins whenever it fits. The others, from least squares with the start
-/// fixed, from interpolating the last frame, and halfway between, compete on the end error, which
-/// helps the next segment. Curved candidates also fit a bulge; a one-frame segment has no middle
-/// and is fitted straight.
+/// Tries the quantized end and bulge candidates of one segment and returns the one that
+/// `check(end_steps, bulge_steps)` (-> std::optional<Fit>, Fit having `end_error`) accepts with
+/// the smallest end error, which helps the next segment: from least squares with the start
+/// fixed, from interpolating the last frame, and halfway between. Curved candidates also fit a
+/// bulge; a one-frame segment has no middle and is fitted straight. (A candidate keeping the
+/// previous segment's speed, whose end would cost nothing to code, was tried: no fewer bytes.)
 template <class Check>
-auto best_segment_candidate(const SegmentSums& sums, bool curved, const PreviousFit& previous, uint32_t length,
-                            double step, Check check) {
+auto best_segment_candidate(const SegmentSums& sums, bool curved, double step, Check check) {
     curved = curved && sums.uu * sums.bb - sums.ub * sums.ub > 0;
     const double bulge_step = kBulgeStepRatio * step;
-    SegmentSteps continued_bulge{};
-    if (curved) {
-        // Keeping the speed V, the end is V - C and r_j = u V - u^2 C: least squares for C.
-        const Vec3 continued = dequantize(predict_end_steps(previous, length, {}), step);
-        const Vec3 bulge = scale(sub(scale(continued, sums.uuu), sums.uur), 1 / sums.uuuu);
-        if (auto q = quantize(bulge, bulge_step, kMaxSegmentSteps)) continued_bulge = *q;
-    }
-    auto best = check(predict_end_steps(previous, length, continued_bulge), continued_bulge);
-    if (best) return best;
-
+    decltype(check(SegmentSteps{}, SegmentSteps{})) best;
     Vec3 ends[3], bulges[3] = {};
     if (!curved) {
         ends[0] = scale(sums.ur, 1 / sums.uu);
