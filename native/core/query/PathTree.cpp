@@ -100,7 +100,9 @@ PathTree::PathTree(std::vector<float> points, uint32_t stride, uint32_t last_fra
     quantize(points);
     if (point_count() > 0) {
         hold_end_s_ = std::max(time_of(point_count() - 1), hold_until_s);
-        build(0, static_cast<uint32_t>(point_count() - 1), 0);
+        std::vector<Vec3> stored(point_count());
+        for (size_t k = 0; k < stored.size(); ++k) stored[k] = point(k);
+        build(stored, 0, static_cast<uint32_t>(point_count() - 1), 0);
     }
 }
 
@@ -117,8 +119,11 @@ void PathTree::quantize(const std::vector<float>& points) {
     for (int a = 0; a < 3; ++a) {
         origin_[a] = lo[a];
         step_[a] = (hi[a] - lo[a]) / 65535.0;
+        const double per_step = step_[a] > 0 ? 1 / step_[a] : 0;
+        // In [0, 65535.5]: the conversion's truncation rounds to the nearest step, clamped.
         for (size_t k = 0; k < n; ++k)
-            points_[3 * k + a] = step_[a] > 0 ? static_cast<uint16_t>(std::lround((points[3 * k + a] - lo[a]) / step_[a])) : 0;
+            points_[3 * k + a] =
+                static_cast<uint16_t>(std::min(65535.0, (points[3 * k + a] - lo[a]) * per_step + 0.5));
     }
 }
 
@@ -134,50 +139,61 @@ size_t PathTree::memory_bytes() const {
     return sizeof(*this) + points_.capacity() * sizeof(uint16_t) + nodes_.capacity() * sizeof(Node);
 }
 
-void PathTree::build(uint32_t first, uint32_t last, int depth) {
+void PathTree::build(const std::vector<Vec3>& points, uint32_t first, uint32_t last, int depth) {
     const size_t index = nodes_.size();
     nodes_.push_back({});
-    // Principal axes of the points, then the box of their extents along them.
-    Vec3 mean{0, 0, 0};
-    const double n = last - first + 1;
-    for (uint32_t k = first; k <= last; ++k) mean = add(mean, point(k));
-    mean = scale(mean, 1 / n);
-    std::array<double, 9> covariance{};
+    // Principal axes of the points (mean and covariance in one pass), then the box of their
+    // extents along them.
+    Vec3 sum{0, 0, 0};
+    std::array<double, 6> products{};  // xx, xy, xz, yy, yz, zz
+    const Vec3 origin = points[first];  // offsets from a path point keep the sums well conditioned
     for (uint32_t k = first; k <= last; ++k) {
-        const Vec3 d = sub(point(k), mean);
-        for (int r = 0; r < 3; ++r)
-            for (int c = 0; c < 3; ++c) covariance[3 * r + c] += d[r] * d[c];
+        const Vec3 d = sub(points[k], origin);
+        sum = add(sum, d);
+        products[0] += d[0] * d[0];
+        products[1] += d[0] * d[1];
+        products[2] += d[0] * d[2];
+        products[3] += d[1] * d[1];
+        products[4] += d[1] * d[2];
+        products[5] += d[2] * d[2];
     }
+    const double n = last - first + 1;
+    const Vec3 mean_offset = scale(sum, 1 / n);
+    const std::array<double, 9> covariance{
+        products[0] - n * mean_offset[0] * mean_offset[0], products[1] - n * mean_offset[0] * mean_offset[1],
+        products[2] - n * mean_offset[0] * mean_offset[2], products[1] - n * mean_offset[0] * mean_offset[1],
+        products[3] - n * mean_offset[1] * mean_offset[1], products[4] - n * mean_offset[1] * mean_offset[2],
+        products[2] - n * mean_offset[0] * mean_offset[2], products[4] - n * mean_offset[1] * mean_offset[2],
+        products[5] - n * mean_offset[2] * mean_offset[2]};
     Node node;
     const Quat rotation = rotation_onto(principal_axes(covariance));
     for (int c = 0; c < 4; ++c) node.rotation[c] = static_cast<int16_t>(std::lround(rotation[c] * 32767.0));
     const std::array<Vec3, 3> axes = axes_of(node);
+    const Vec3 mean = add(origin, mean_offset);
     Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
     for (uint32_t k = first; k <= last; ++k) {
-        const Vec3 d = sub(point(k), mean);
+        const Vec3 d = sub(points[k], mean);
         for (int a = 0; a < 3; ++a) {
-            lo[a] = std::min(lo[a], dot(d, axes[a]));
-            hi[a] = std::max(hi[a], dot(d, axes[a]));
+            const double along = dot(d, axes[a]);
+            lo[a] = std::min(lo[a], along);
+            hi[a] = std::max(hi[a], along);
         }
     }
     Vec3 center = mean;
     for (int a = 0; a < 3; ++a) center = add(center, scale(axes[a], (lo[a] + hi[a]) / 2));
-    // The box is re-measured around the centre as stored, and padded for the single-precision
-    // rounding of the extents.
+    // Stored in single precision: around the rounded centre a point reaches at most half the
+    // extent plus the rounding shift along each axis; the padding covers the arithmetic.
     for (int a = 0; a < 3; ++a) node.center[a] = static_cast<float>(center[a]);
-    const Vec3 stored_center{node.center[0], node.center[1], node.center[2]};
-    double reach = 0;
-    for (uint32_t k = first; k <= last; ++k) reach = std::max(reach, norm(sub(point(k), stored_center)));
-    for (int a = 0; a < 3; ++a) {
-        double extent = 0;
-        for (uint32_t k = first; k <= last; ++k) extent = std::max(extent, std::fabs(dot(sub(point(k), stored_center), axes[a])));
-        node.half_extents[a] = static_cast<float>(extent * (1 + 1e-6) + 1e-6 * (1 + reach));
-    }
+    const Vec3 shift = sub(Vec3{node.center[0], node.center[1], node.center[2]}, center);
+    Vec3 half{};
+    for (int a = 0; a < 3; ++a) half[a] = (hi[a] - lo[a]) / 2 + std::fabs(dot(shift, axes[a]));
+    const double reach = norm(half);
+    for (int a = 0; a < 3; ++a) node.half_extents[a] = static_cast<float>(half[a] * (1 + 1e-6) + 1e-6 * (1 + reach));
     nodes_[index] = node;
     if (splits(first, last, depth)) {
         const uint32_t middle = first + (last - first) / 2;  // children share the middle point
-        build(first, middle, depth + 1);
-        build(middle, last, depth + 1);
+        build(points, first, middle, depth + 1);
+        build(points, middle, last, depth + 1);
     }
 }
 

@@ -67,7 +67,8 @@ private:
     static uint32_t subtree_nodes(uint32_t first, uint32_t last, int depth);
 
     void quantize(const std::vector<float>& points);
-    void build(uint32_t first, uint32_t last, int depth);
+    /// Appends the nodes over points first..last (`points`: this path's stored points, decoded).
+    void build(const std::vector<Vec3>& points, uint32_t first, uint32_t last, int depth);
     double node_first_touch(uint32_t node, uint32_t first, uint32_t last, int depth, const Frustum& frustum,
                             double t_lo, double t_hi, double radius) const;
     /// Earliest touching time over segments first..last (and the held pose after the last point),
