@@ -7,7 +7,6 @@
 #include <optional>
 #include <stdexcept>
 #include <utility>
-#include <cstdlib>
 
 #include "codec/BitWriter.h"
 #include "codec/CodecFormat.h"
