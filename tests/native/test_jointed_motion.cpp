@@ -1,7 +1,8 @@
 // Stored motion of jointed bodies and of older libraries: a swinging chain decodes within the
 // codec bounds and gives the same bytes on any thread count; a library written before codec
-// format 2 (world record version 4) still reads, also once newer worlds are appended to it; a
-// track damaged inside an intact record is reported, never decoded into garbage silently.
+// format 2 (world record version 4) still reads, also once newer worlds are appended to it or one
+// of its worlds is refined; a track damaged inside an intact record is reported, never decoded
+// into garbage silently.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -18,6 +19,7 @@
 #include "library/LibraryReader.h"
 #include "library/LibraryWriter.h"
 #include "library/WorldDecoding.h"
+#include "refine/StoredWorldRefinement.h"
 #include "sampler/Sampler.h"
 #include "scene/SceneJson.h"
 #include "sim/WorldSimulator.h"
@@ -155,6 +157,33 @@ TEST_F(JointedMotion, NewWorldsAppendedToAnOldLibraryReadAlongsideItsOldOnes) {
         EXPECT_LE(worst.position_m, header.bounds.position_error_max_m) << "world " << stored.world_index;
         EXPECT_LE(worst.angle_rad, header.bounds.rotation_error_max_rad) << "world " << stored.world_index;
     }
+}
+
+TEST_F(JointedMotion, RefiningAWorldOfAnOldLibraryKeepsItsOldTracksBesideTheNewOnes) {
+    const std::string file = path("refined.mwb");
+    fs::copy_file(kVersion4Library, file);
+    std::vector<WorldResult> children;
+    {
+        const LibraryReader reader(file);
+        LibraryWriter writer(file, reader.header());
+        RefineRequest request;
+        request.bodies = {10};  // the chain's last link
+        request.branch_time_s = 0.25;
+        refine_stored_world(reader, request, writer, [&](WorldResult&& child) { children.push_back(std::move(child)); });
+    }
+    ASSERT_EQ(children.size(), 1u);
+    const LibraryReader reader(file, ReaderOptions{true, 10});
+    EXPECT_TRUE(reader.warnings().empty());
+    ASSERT_EQ(reader.worlds().size(), 2u);
+    EXPECT_EQ(reader.raw_records()[1].version, kWorldRecordVersion);
+    const StoredWorld& child = reader.worlds()[1];
+    ASSERT_EQ(child.parent_world, 0);
+    const size_t inherited = std::count_if(child.tracks.begin(), child.tracks.end(), [](const StoredTrack& t) { return t.inherited; });
+    EXPECT_GT(inherited, 0u) << "the child stores only what it changed";
+    EXPECT_LT(inherited, child.tracks.size());
+    const WorstError worst = worst_error(child, children[0]);
+    EXPECT_LE(worst.position_m, reader.header().bounds.position_error_max_m);
+    EXPECT_LE(worst.angle_rad, reader.header().bounds.rotation_error_max_rad);
 }
 
 // Offset, within a world record's payload, of the first byte of track `track`'s position blob
