@@ -62,50 +62,98 @@ Vec3 relative_log(const Quat& to, const Quat& from) {
     return quat_log(quat_multiply(to, quat_conjugate(from)));
 }
 
-std::optional<SegmentFit> check_candidate(const RotationInput& input, uint32_t start_frame,
-                                          const Quat& start, uint32_t length,
+// The angle test of rotation_angle_between, 2 atan2(s, |w|) <= tolerance, decided without the
+// arctangent where s / |w| is clearly on one side of tan(tolerance / 2); the arctangent decides
+// the rest, so every answer is the one it would give.
+class AngleTest {
+public:
+    explicit AngleTest(double tolerance_rad)
+        : tolerance_rad_(tolerance_rad),
+          tan_half_(portable::sin(tolerance_rad / 2) / portable::cos(tolerance_rad / 2)) {}
+
+    /// Whether `decoded` is within the tolerance of `frame`.
+    bool within(const Quat& decoded, const Quat& frame) const {
+        const Quat r = quat_multiply(decoded, quat_conjugate(frame));
+        const double s = norm(Vec3{r[1], r[2], r[3]}), w = std::fabs(r[0]);
+        if (s <= tan_half_ * w * (1 - kMargin)) return true;
+        if (s >= tan_half_ * w * (1 + kMargin)) return false;
+        return 2.0 * portable::atan2(s, w) <= tolerance_rad_;
+    }
+
+private:
+    static constexpr double kMargin = 1e-9;  // far beyond the arctangent's few ulps
+    double tolerance_rad_;
+    double tan_half_;
+};
+
+// The unwrapped logs of the frames after a segment start relative to it, computed once per start
+// for every length the search tries.
+class RelativeLogs {
+public:
+    RelativeLogs(const RotationInput& input, uint32_t start_frame, const Quat& start)
+        : input_(input), start_frame_(start_frame), start_(start),
+          first_(relative_log(input.frames[start_frame + 1], start)) {}
+
+    /// Frame start_frame + j, j >= 1.
+    const Vec3& at(uint32_t j) {
+        while (logs_.size() < j) {
+            const uint32_t k = static_cast<uint32_t>(logs_.size()) + 1;
+            // Summed per-frame increments tell how many whole turns the log map folded away.
+            const Vec3 reference = add(first_, sub(input_.increment_sum[start_frame_ + k],
+                                                   input_.increment_sum[start_frame_ + 1]));
+            logs_.push_back(unwrap(relative_log(input_.frames[start_frame_ + k], start_), reference));
+        }
+        return logs_[j - 1];
+    }
+
+private:
+    const RotationInput& input_;
+    uint32_t start_frame_;
+    Quat start_;
+    Vec3 first_;
+    std::vector<Vec3> logs_;
+};
+
+std::optional<SegmentFit> check_candidate(const RotationInput& input, const AngleTest& angle_test,
+                                          uint32_t start_frame, const Quat& start, uint32_t length,
                                           const SegmentSteps& steps, const SegmentSteps& bulge) {
     // A zero bulge decodes exactly as a straight segment, which is cheaper to write.
     SegmentFit fit{length, false, !is_zero(bulge), steps, bulge, {}, 0};
     for (uint32_t j = 1; j <= length; ++j) {
         const Quat decoded = rotation_on_segment(start, steps, bulge, input.step_rad, length, j);
-        const double error = rotation_angle_between(decoded, input.frames[start_frame + j]);
-        if (!(error <= input.tolerance_rad)) return std::nullopt;
+        if (!angle_test.within(decoded, input.frames[start_frame + j])) return std::nullopt;
         fit.end = decoded;
-        fit.end_error = error;
     }
+    fit.end_error = rotation_angle_between(fit.end, input.frames[start_frame + length]);
     return fit;
 }
 
 // Fits a segment of exactly `length` frames to the unwrapped log of each frame relative to the
 // start.
-std::optional<SegmentFit> fit_length(const RotationInput& input, uint32_t start_frame, const Quat& start,
-                                     bool curved, uint32_t length) {
-    const Vec3 first = relative_log(input.frames[start_frame + 1], start);
+std::optional<SegmentFit> fit_length(const RotationInput& input, const AngleTest& angle_test, RelativeLogs& logs,
+                                     uint32_t start_frame, const Quat& start, bool curved, uint32_t length) {
     SegmentSums sums;
-    for (uint32_t j = 1; j <= length; ++j) {
-        // Summed per-frame increments tell how many whole turns the log map folded away.
-        const Vec3 reference = add(first, sub(input.increment_sum[start_frame + j],
-                                              input.increment_sum[start_frame + 1]));
-        sums.add(double(j) / length, unwrap(relative_log(input.frames[start_frame + j], start), reference));
-    }
+    for (uint32_t j = 1; j <= length; ++j) sums.add(double(j) / length, logs.at(j));
     return best_segment_candidate(sums, curved, input.step_rad,
                                   [&](const SegmentSteps& end, const SegmentSteps& bulge) {
-                                      return check_candidate(input, start_frame, start, length, end, bulge);
+                                      return check_candidate(input, angle_test, start_frame, start, length, end, bulge);
                                   });
 }
 
 // The longest segment, straight or curved; on equal lengths the straight one, which is cheaper.
 // Curved ones are only tried on lengths beyond the straight one's.
-SegmentFit next_segment(const RotationInput& input, uint32_t start_frame, const Quat& start) {
+SegmentFit next_segment(const RotationInput& input, const AngleTest& angle_test, uint32_t start_frame,
+                        const Quat& start) {
     const auto frame_count = static_cast<uint32_t>(input.frames.size());
+    RelativeLogs logs(input, start_frame, start);
     const uint32_t max_length = std::min(frame_count - 1 - start_frame, kMaxSegmentFrames);
     std::optional<SegmentFit> best;
     for (bool curved : {false, true}) {
         const uint32_t at_least = best ? best->length + 1 : 1;
         if (at_least > max_length) break;
         auto fit = longest_greedy_fit(
-            max_length, [&](uint32_t length) { return fit_length(input, start_frame, start, curved, length); },
+            max_length,
+            [&](uint32_t length) { return fit_length(input, angle_test, logs, start_frame, start, curved, length); },
             at_least);
         if (fit) best = fit;
     }
@@ -138,8 +186,9 @@ StartKey make_start_key(const RotationInput& input) {
 std::vector<SegmentFit> plan_segments(const RotationInput& input, const Quat& start) {
     std::vector<SegmentFit> segments;
     Quat rotation = start;
+    const AngleTest angle_test(input.tolerance_rad);
     for (uint32_t frame = 0; frame + 1 < input.frames.size();) {
-        segments.push_back(next_segment(input, frame, rotation));
+        segments.push_back(next_segment(input, angle_test, frame, rotation));
         frame += segments.back().length;
         rotation = segments.back().end;
     }
