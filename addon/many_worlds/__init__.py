@@ -54,6 +54,7 @@ def unregister():
     draw.remove_handlers()
     handlers.remove()
     scene_boxes.RANKING.clear()
+    scene_boxes.stop_index_poll()
     SESSION.close()
     props.unregister_properties()
     for cls in reversed(_classes()):

@@ -5,6 +5,7 @@ body names to the library's body indices, keeps the session's LibraryQuery in st
 view, and caches the ranking the panel shows.
 """
 import dataclasses
+import traceback
 
 import bpy
 import numpy as np
@@ -15,16 +16,66 @@ from .core.session import SESSION
 classes = ()
 
 
+# Seconds between looks at a filling path index: the panel's count and the boxes' answer follow it.
+INDEX_POLL_S = 0.5
+
+
 def library_query():
-    """The LibraryQuery of the open library (built on first use after opening), or None."""
+    """The LibraryQuery of the open library (built on first use after opening), or None. Its
+    index fills in the background; a timer follows the fill (poll_index_fill)."""
     view = SESSION.view
     if view is None:
+        if SESSION.query is not None:
+            SESSION.query.close()
         SESSION.query = None
         return None
     if SESSION.query is None or SESSION.query.view is not view:
         from . import _native
-        SESSION.query = core_query.LibraryQuery(_native, view)
+        if SESSION.query is not None:
+            SESSION.query.close()
+        SESSION.query = core_query.LibraryQuery(_native, view, background=True)
     return SESSION.query
+
+
+def follow_index_fill(lq):
+    """Start the timer that follows `lq`'s index while it fills."""
+    if lq.filling and not bpy.app.timers.is_registered(poll_index_fill):
+        bpy.app.timers.register(poll_index_fill, first_interval=INDEX_POLL_S)
+
+
+def poll_index_fill():
+    """Timer while the path index fills: the boxes are evaluated again when worlds were indexed
+    since their last answer, and the panels redraw with the count. Stops once every world is
+    indexed (after one last evaluation) or the library is closed."""
+    lq = SESSION.query
+    if lq is None or lq.view is not SESSION.view:
+        return None
+    # Read before evaluating: a fill that ends meanwhile still gets its last evaluation next time.
+    filling = lq.filling
+    try:
+        result = lq.result
+        if result is not None and result.box_count and result.indexed != lq.indexed_count:
+            refresh(bpy.context.scene)
+        else:
+            _tag_redraw()
+    except Exception:
+        # What stopped the fill is shown once; the index keeps the worlds indexed before it.
+        traceback.print_exc()
+        return None
+    return INDEX_POLL_S if filling else None
+
+
+def stop_index_poll():
+    if bpy.app.timers.is_registered(poll_index_fill):
+        bpy.app.timers.unregister(poll_index_fill)
+
+
+def index_progress_text():
+    """'Indexing 4,200 of 10,000 worlds' while the open library's index fills, else ""."""
+    lq = SESSION.query
+    if lq is None or lq.view is not SESSION.view:
+        return ""
+    return lq.progress_text()
 
 
 # --- bodies -----------------------------------------------------------------------------------------
@@ -169,6 +220,7 @@ def refresh(scene, extra=None):
     if extra is not None:
         specs.append(extra)
     result = lq.evaluate(specs) if specs else lq.clear()
+    follow_index_fill(lq)
     _tag_redraw()
     return result
 
@@ -209,8 +261,9 @@ class RankingCache:
         settings = context.scene.mwb
         bodies = body_indices(ranking_body_names(context), lq.view)
         result_id = id(lq.result) if lq.result is not None else 0
-        key = (id(lq.view), lq.view.version, result_id, settings.rank_metric, settings.rank_combine,
-               settings.rank_descending, bodies)
+        # While the index fills, the ranking grows with it.
+        key = (id(lq.view), lq.view.version, result_id, lq.indexed_count, settings.rank_metric,
+               settings.rank_combine, settings.rank_descending, bodies)
         if key != self._key:
             self.ids, self.values = lq.rank(settings.rank_metric, bodies, settings.rank_combine.lower(),
                                             settings.rank_descending)

@@ -3,6 +3,8 @@
 #include <pybind11/pybind11.h>
 
 #include <map>
+#include <mutex>
+#include <shared_mutex>
 #include <string>
 
 #include "library/LibraryReader.h"
@@ -12,6 +14,8 @@ namespace mwb::python {
 namespace py = pybind11;
 
 // A library opened for browsing: worlds stay compressed in memory and decode on demand.
+// Python calls it with the GIL held; work on other threads without the GIL (indexing) reads the
+// reader under read_lock(), which poll() excludes while it appends worlds.
 class PyLibrary {
 public:
     PyLibrary(const std::string& path, double polyline_hz) : reader_(path, ReaderOptions{false, polyline_hz}) {
@@ -23,6 +27,7 @@ public:
         size_t added;
         {
             py::gil_scoped_release release;
+            std::unique_lock<std::shared_mutex> lock(appending_);
             added = reader_.poll();
         }
         index_new_worlds(before);
@@ -36,6 +41,8 @@ public:
     }
 
     const LibraryReader& reader() const { return reader_; }
+    /// Held while reading the reader without the GIL.
+    std::shared_lock<std::shared_mutex> read_lock() const { return std::shared_lock<std::shared_mutex>(appending_); }
 
 private:
     void index_new_worlds(size_t from) {
@@ -44,6 +51,7 @@ private:
 
     LibraryReader reader_;
     std::map<uint64_t, size_t> by_index_;
+    mutable std::shared_mutex appending_;
 };
 
 }  // namespace mwb::python

@@ -50,16 +50,14 @@ QueryBox make_box(const py::array_t<double, py::array::c_style | py::array::forc
     return box;
 }
 
-// What the index needs of each library world it does not hold yet.
-std::vector<IndexedWorldInput> new_worlds(const PathIndex& index, const PyLibrary& library) {
+// What the index needs of the library's worlds it does not hold yet: at most `limit` (0: all), in
+// file order. Runs without the GIL, under the library's read lock.
+std::vector<IndexedWorldInput> new_worlds(const PathIndex& index, const PyLibrary& library, size_t limit) {
+    const auto lock = library.read_lock();
     std::vector<IndexedWorldInput> inputs;
     for (const StoredWorld& w : library.reader().worlds()) {
-        if (index.contains(w.world_index)) continue;
-        try {
-            inputs.push_back(indexed_world_input(library.reader(), w));
-        } catch (const std::invalid_argument& error) {
-            throw py::value_error(error.what());
-        }
+        if (limit != 0 && inputs.size() == limit) break;
+        if (!index.contains(w.world_index)) inputs.push_back(indexed_world_input(library.reader(), w));
     }
     return inputs;
 }
@@ -85,15 +83,22 @@ void bind_query(py::module_& m) {
              "body_radii_m: per scene body, a radius around the object origin bounding its shape")
         .def(
             "add_library",
-            [](PathIndex& index, const PyLibrary& library, int threads) {
-                std::vector<IndexedWorldInput> inputs = new_worlds(index, library);
-                const size_t count = inputs.size();
+            [](PathIndex& index, const PyLibrary& library, int threads, size_t limit) {
                 py::gil_scoped_release release;
+                std::vector<IndexedWorldInput> inputs;
+                try {
+                    inputs = new_worlds(index, library, limit);
+                } catch (const std::invalid_argument& error) {
+                    throw py::value_error(error.what());
+                }
+                const size_t count = inputs.size();
                 index.add_worlds(std::move(inputs), threads);
                 return count;
             },
-            py::arg("library"), py::arg("threads") = 0,
-            "Index the library's worlds not indexed yet (in parallel, GIL released); returns how many.")
+            py::arg("library"), py::arg("threads") = 0, py::arg("limit") = 0,
+            "Index the library's worlds not indexed yet, at most `limit` of them (0: all) in file order, on\n"
+            "`threads` threads (0: all); returns how many. Runs without the GIL, so a Python thread can fill\n"
+            "the index while queries (which see the worlds indexed so far) and library polls go on.")
         .def_property_readonly("world_count", &PathIndex::world_count)
         .def_property_readonly("memory_bytes", &PathIndex::memory_bytes)
         .def(

@@ -3,8 +3,12 @@
 A `LibraryQuery` owns the native PathIndex of one LibraryView. The add-on describes boxes as
 plain `BoxSpec` values (read from scene properties by the bpy side) and gets back per-world flags
 in the view's order. The index is incremental: `sync()` indexes only worlds not indexed yet, so
-worlds streaming in while sampling cost only their own trees.
+worlds streaming in while sampling cost only their own trees. In the add-on a large backlog (a
+library just opened) fills on a background thread (`IndexFill`): the paths are drawn meanwhile,
+and queries and rankings answer for the worlds indexed so far (a world not indexed yet matches no
+box and is not ranked).
 """
+import threading
 from dataclasses import dataclass
 from typing import Optional, Sequence, Tuple
 
@@ -86,6 +90,11 @@ def match_count_text(matching, total):
     return f"{matching:,} of {total:,} {noun}"
 
 
+def index_progress_text(indexed, total):
+    """The panel's line while the path index fills, e.g. 'Indexing 4,200 of 10,000 worlds'."""
+    return f"Indexing {indexed:,} of {total:,} worlds"
+
+
 def world_label_text(world, rest_s, boxes_met=0, box_count=0):
     """The viewport's one line naming the previewed world: "World 216 · 5.47 s · 3 of 3 boxes"
     (the boxes part only while boxes are enabled)."""
@@ -101,6 +110,54 @@ class QueryResult:
     matching: np.ndarray          # bool (worlds,)
     boxes_satisfied: np.ndarray   # uint32 (worlds,)
     box_count: int
+    indexed: int = 0              # worlds indexed when it was evaluated (the others match nothing)
+
+
+# Worlds one step of the background fill indexes: a step holds the library's read lock (a poll for
+# new worlds waits for it) for a few milliseconds.
+FILL_STEP_WORLDS = 256
+# A backlog this small is indexed before a query answers (a few milliseconds), so worlds streaming
+# in while sampling match at once; a larger one fills in the background.
+FOREGROUND_WORLDS = 256
+
+
+class IndexFill:
+    """Indexes a library's worlds into a PathIndex on a background thread, FILL_STEP_WORLDS at a
+    time in file order, until none is left. The native calls release the GIL, and queries on the
+    same index meanwhile see every world indexed so far."""
+
+    def __init__(self, index, library, threads):
+        self.index = index
+        self.error = None
+        self._library = library
+        self._threads = threads
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, name="mwb-index-fill", daemon=True)
+        self._thread.start()
+
+    def _run(self):
+        try:
+            while not self._stop.is_set() and self._step():
+                pass
+        except Exception as error:  # kept for the main thread: LibraryQuery.sync raises it
+            self.error = error
+
+    def _step(self):
+        """Index the next worlds not indexed yet; returns how many (0: none was left)."""
+        return self.index.add_library(self._library, threads=self._threads, limit=FILL_STEP_WORLDS)
+
+    @property
+    def stopping(self):
+        return self._stop.is_set()
+
+    @property
+    def running(self):
+        return self._thread.is_alive()
+
+    def stop(self):
+        """Stop after the step under way and wait for it."""
+        self._stop.set()
+        self._thread.join()
 
 
 class LibraryQuery:
@@ -111,11 +168,15 @@ class LibraryQuery:
     leaves out a world with none of them.
     """
 
-    def __init__(self, native, view):
+    def __init__(self, native, view, background=False):
+        """background: fill the index on a background thread (the add-on); otherwise every world is
+        indexed before a query or ranking answers (the command line, scripts)."""
         self.native = native
         self.view = view
+        self.background = background
         self.generation = 0
         self.result = None
+        self._fill = None
         self._new_index()
         self.sync()
 
@@ -124,17 +185,58 @@ class LibraryQuery:
         self.index = self.native.PathIndex(self.native.body_bounding_radii(scene))
         self.scene_revision = self.view.scene_revision
 
+    @property
+    def indexed_count(self):
+        """Worlds the index holds (queries and rankings see these)."""
+        return self.index.world_count
+
+    @property
+    def filling(self):
+        """Whether worlds of the view are still waiting to be indexed."""
+        return self.index.world_count < len(self.view.world_indices)
+
+    def progress_text(self):
+        """The panel's line while the index fills ("" once every world is indexed)."""
+        if not self.filling:
+            return ""
+        return index_progress_text(self.indexed_count, len(self.view.world_indices))
+
     def sync(self):
-        """Index the view's worlds that are not indexed yet (GIL released); returns how many.
+        """Index the view's worlds that are not indexed yet (GIL released); returns how many were
+        indexed here. With `background`, a backlog of more than FOREGROUND_WORLDS is left to the
+        background fill (started if it is not running) and this returns at once.
 
         Bodies added to the library since the index was built need an index with their radii,
-        so then every world is indexed anew.
+        so then every world is indexed anew. Raises what stopped the background fill, if anything.
         """
+        if self._fill is not None and self._fill.error is not None:
+            error, self._fill = self._fill.error, None
+            raise error
+        if self.scene_revision != self.view.scene_revision:
+            self.close()
+            self._new_index()
+        backlog = len(self.view.world_indices) - self.index.world_count
+        if backlog <= 0 or (self._fill is not None and self._fill.running):
+            return 0
+        if not self.background or backlog <= FOREGROUND_WORLDS:
+            return self.index.add_library(self.view.library)
+        # One core stays free for Blender's UI.
+        self._fill = IndexFill(self.index, self.view.library, threads=1)
+        return 0
+
+    def complete(self):
+        """Index every world of the view now, on all cores (a background fill stops first); returns
+        how many were indexed here."""
+        self.close()
         if self.scene_revision != self.view.scene_revision:
             self._new_index()
-        if self.index.world_count == len(self.view.world_indices):
-            return 0
         return self.index.add_library(self.view.library)
+
+    def close(self):
+        """Stop the background fill, if one runs (worlds indexed so far stay)."""
+        if self._fill is not None:
+            self._fill.stop()
+            self._fill = None
 
     def native_box(self, spec):
         """The module's QueryBox of a BoxSpec; its `after` counts in the list it is queried with."""
@@ -150,7 +252,8 @@ class LibraryQuery:
         match flags in the view. Returns a QueryResult. Raises ValueError for an ordering cycle.
 
         Each evaluation posts a new generation first, so a query still running for an older box
-        set (from another thread) stops early instead of finishing work nobody will read.
+        set (from another thread) stops early instead of finishing work nobody will read. While
+        the index fills, the answer is that of the worlds indexed so far; the others match nothing.
         """
         self.sync()
         file_order = np.asarray(self.view.world_indices, dtype=np.uint64)
@@ -168,21 +271,23 @@ class LibraryQuery:
             satisfied[known] = satisfied_sorted[where[known]]
         matching = np.isin(file_order, np.asarray(raw["matching"], dtype=np.uint64))
         self.view.set_matching(matching)
-        self.result = QueryResult(matching, satisfied, len(boxes))
+        self.result = QueryResult(matching, satisfied, len(boxes), indexed=len(ids))
         return self.result
 
     def clear(self):
         """No boxes: every world matches."""
         self.view.set_matching(np.ones(len(self.view.world_indices), dtype=bool))
         self.result = QueryResult(self.view.matching.copy(),
-                                  np.zeros(len(self.view.world_indices), dtype=np.uint32), 0)
+                                  np.zeros(len(self.view.world_indices), dtype=np.uint32), 0,
+                                  indexed=self.indexed_count)
         return self.result
 
     def rank(self, metric, bodies, combine="sum", descending=False, goals=None):
         """Worlds and values sorted by a metric over bodies: (world ids int64, values float64).
 
         Per-body metrics list the matching worlds only; BOXES_MET lists every world with its
-        count of boxes met (ties keep world-index order).
+        count of boxes met (ties keep world-index order). While the index fills, per-body metrics
+        list the worlds indexed so far.
         """
         self.sync()
         if metric_name(metric) == BOXES_MET:

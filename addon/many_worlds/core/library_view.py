@@ -102,10 +102,14 @@ class LibraryView:
         return core_family.family(self.lineages(), world)
 
     def set_matching(self, flags):
-        """Replace the per-world match flags (file order); drawing rebuilds on the next redraw."""
+        """Replace the per-world match flags (file order); drawing rebuilds on the next redraw when
+        they changed."""
         flags = np.asarray(flags, dtype=bool)
         if flags.shape != (len(self.world_indices),):
             raise ValueError(f"matching needs shape ({len(self.world_indices)},), got {flags.shape}")
+        if np.array_equal(flags, self.matching):
+            # The same answer (a query repeated as the index fills): nothing to draw again.
+            return
         self.matching = flags
         self.version += 1
 

@@ -26,6 +26,8 @@ class Session:
             self.engine.wait(30)
             self.engine = None
         self.run_follower = None
+        if self.query is not None:
+            self.query.close()
         self.view = None
         self.query = None
         self.status = ""

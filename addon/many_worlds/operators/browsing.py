@@ -46,7 +46,7 @@ def open_library(scene, path=None):
         return False
     SESSION.view = LibraryView(_native, path)
     sync_world_list(scene)
-    # Index the paths and apply the scene's saved boxes before anything is drawn.
+    # Apply the scene's saved boxes; the path index fills in the background and the boxes follow it.
     scene_boxes.refresh(scene)
     settings = scene.mwb
     if settings.selected_world in SESSION.view.world_indices:

@@ -45,7 +45,7 @@ def first_time_inside(view, world, body_names, view_matrix, projection_matrix, s
     lq = scene_boxes.library_query()
     if spec is None or lq is None:
         return -1.0
-    lq.sync()
+    lq.complete()
     return float(lq.index.first_time_inside(int(world), list(spec.bodies), lq.native_box(spec)))
 
 

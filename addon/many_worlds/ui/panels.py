@@ -108,6 +108,9 @@ class MWB_PT_query(SidebarPanel, bpy.types.Panel):
         text = scene_boxes.match_text()
         if text:
             wrapped_labels(layout, context, text, "FILTER")
+        progress = scene_boxes.index_progress_text()
+        if progress:
+            wrapped_labels(layout, context, progress, "TIME")
         self.draw_new_box_bodies(context, layout)
         row = layout.row(align=True)
         row.operator("mwb.draw_box", text="Draw Box", icon="SELECT_SET").negative = False

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstring>
+#include <exception>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -22,25 +24,62 @@ uint32_t u32_at(const uint8_t* p) {
     return v;
 }
 
-// A complete, checksummed record starts at `at` (relative to `bytes`)?
-bool valid_record_at(const std::vector<uint8_t>& bytes, size_t at) {
-    if (bytes.size() - at < kRecordHeaderBytes) return false;
-    const uint8_t* p = bytes.data() + at;
+// A complete, checksummed record starts at `at` of the `size` bytes?
+bool valid_record_at(const uint8_t* bytes, size_t size, size_t at) {
+    if (size - at < kRecordHeaderBytes) return false;
+    const uint8_t* p = bytes + at;
     if (u32_at(p) != kRecordMagic) return false;
-    const uint32_t size = u32_at(p + 12);
-    if (size > kMaxRecordPayloadBytes || bytes.size() - at - kRecordHeaderBytes < size) return false;
-    const uint32_t crc = crc32_of(p + kRecordHeaderBytes, size, crc32_of(p + 4, 12));
+    const uint32_t payload = u32_at(p + 12);
+    if (payload > kMaxRecordPayloadBytes || size - at - kRecordHeaderBytes < payload) return false;
+    const uint32_t crc = crc32_of(p + kRecordHeaderBytes, payload, crc32_of(p + 4, 12));
     return crc == u32_at(p + 16);
 }
 
-// First offset after `from` where a valid record starts, or bytes.size().
-size_t find_next_record(const std::vector<uint8_t>& bytes, size_t from) {
-    for (size_t at = from; at + kRecordHeaderBytes <= bytes.size(); ++at)
-        if (valid_record_at(bytes, at)) return at;
-    return bytes.size();
+// First offset after `from` where a valid record starts, or `size`.
+size_t find_next_record(const uint8_t* bytes, size_t size, size_t from) {
+    for (size_t at = from; at + kRecordHeaderBytes <= size; ++at)
+        if (valid_record_at(bytes, size, at)) return at;
+    return size;
+}
+
+bool is_world_record(uint32_t type, uint32_t version) {
+    return type == kRecordTypeWorld && version >= kOldestWorldRecordVersion && version <= kWorldRecordVersion;
+}
+
+// Runs `read`; returns "" or the warning for a record it could not read.
+template <typename Read>
+std::string warning_from(const std::string& where, Read&& read) {
+    try {
+        read();
+    } catch (const LibraryError& error) {
+        return std::string(error.what()) + "; skipped";
+    } catch (const CodecError& error) {
+        return where + ": " + error.what() + "; skipped";
+    } catch (const SceneError& error) {
+        return where + ": scene revision: " + error.what() + "; skipped";
+    }
+    return "";
 }
 
 }  // namespace
+
+// A record framed in the bytes read, its payload pointing into them; or, with `skipped` set, the
+// warning about bytes skipped there (kept in line so warnings come in file order).
+struct LibraryReader::FramedRecord {
+    uint64_t offset = 0;
+    uint32_t type = 0;
+    uint32_t version = 0;
+    const uint8_t* payload = nullptr;
+    uint32_t size = 0;
+    std::string skipped;
+};
+
+// A world record as far as it was read on its own: no world if its payload did not decode; an
+// error from decoding or from completing it, rethrown when it is accepted in file order.
+struct LibraryReader::DecodedWorld {
+    std::optional<StoredWorld> world;
+    std::exception_ptr error;
+};
 
 LibraryReader::LibraryReader(std::string path, const ReaderOptions& options) : path_(std::move(path)), options_(options) {
     load(read_file_from(path_, 0));
@@ -53,8 +92,7 @@ LibraryReader::LibraryReader(std::string name, const std::vector<uint8_t>& bytes
 void LibraryReader::load(const std::vector<uint8_t>& bytes) {
     file_size_ = bytes.size();
     read_header(bytes);
-    const std::vector<uint8_t> records(bytes.begin() + static_cast<std::ptrdiff_t>(offset_), bytes.end());
-    parse_records(records, offset_, true);
+    parse_records(bytes.data() + offset_, bytes.size() - offset_, offset_, true);
 }
 
 uint64_t LibraryReader::next_world_index() const {
@@ -101,73 +139,125 @@ void LibraryReader::read_header(const std::vector<uint8_t>& bytes) {
     offset_ = in.offset() + size + 4;
 }
 
-void LibraryReader::parse_records(const std::vector<uint8_t>& bytes, uint64_t base_offset, bool at_open) {
+void LibraryReader::parse_records(const uint8_t* bytes, size_t size, uint64_t base_offset, bool at_open) {
+    const std::vector<FramedRecord> records = frame_records(bytes, size, base_offset, at_open);
+    std::vector<DecodedWorld> decoded(records.size());
+    const auto count = static_cast<std::ptrdiff_t>(records.size());
+    // Decoding world records (and a sampled world's polyline) is most of the reading, and each
+    // needs only its own bytes: on all cores. Accepting them keeps file order.
+#pragma omp parallel for schedule(dynamic, 16)
+    for (std::ptrdiff_t k = 0; k < count; ++k) decoded[static_cast<size_t>(k)] = decode_world(records[static_cast<size_t>(k)]);
+    for (size_t k = 0; k < records.size(); ++k) accept_record(records[k], std::move(decoded[k]));
+}
+
+std::vector<LibraryReader::FramedRecord> LibraryReader::frame_records(const uint8_t* bytes, size_t size,
+                                                                      uint64_t base_offset, bool at_open) {
+    std::vector<FramedRecord> records;
     size_t at = 0;
-    while (at < bytes.size()) {
-        if (valid_record_at(bytes, at)) {
-            const uint8_t* p = bytes.data() + at;
-            const uint32_t size = u32_at(p + 12);
-            RawRecord record{base_offset + at, u32_at(p + 4), u32_at(p + 8),
-                             std::vector<uint8_t>(p + kRecordHeaderBytes, p + kRecordHeaderBytes + size)};
-            accept_record(std::move(record));
-            at += kRecordHeaderBytes + size;
+    while (at < size) {
+        if (valid_record_at(bytes, size, at)) {
+            const uint8_t* p = bytes + at;
+            FramedRecord record;
+            record.offset = base_offset + at;
+            record.type = u32_at(p + 4);
+            record.version = u32_at(p + 8);
+            record.size = u32_at(p + 12);
+            record.payload = p + kRecordHeaderBytes;
+            at += kRecordHeaderBytes + record.size;
+            records.push_back(std::move(record));
             continue;
         }
-        const size_t next = find_next_record(bytes, at + 1);
-        if (next == bytes.size()) {
+        const size_t next = find_next_record(bytes, size, at + 1);
+        FramedRecord skipped;
+        if (next == size) {
             // Nothing valid follows: an incomplete last record, perhaps still being written.
-            if (at_open)
-                warnings_.push_back(path_ + ", byte " + std::to_string(base_offset + at) + ": last record is incomplete (" +
-                                    std::to_string(bytes.size() - at) +
-                                    " bytes); skipped - the writer was interrupted or is still writing");
+            if (at_open) {
+                skipped.skipped = path_ + ", byte " + std::to_string(base_offset + at) + ": last record is incomplete (" +
+                                  std::to_string(size - at) + " bytes); skipped - the writer was interrupted or is still writing";
+                records.push_back(std::move(skipped));
+            }
             break;
         }
-        warnings_.push_back(path_ + ", byte " + std::to_string(base_offset + at) + ": damaged record (bad magic or checksum); skipped " +
-                            std::to_string(next - at) + " bytes");
+        skipped.skipped = path_ + ", byte " + std::to_string(base_offset + at) +
+                          ": damaged record (bad magic or checksum); skipped " + std::to_string(next - at) + " bytes";
+        records.push_back(std::move(skipped));
         at = next;
     }
     offset_ = base_offset + at;
+    return records;
 }
 
-bool LibraryReader::accept_record(RawRecord&& record) {
+LibraryReader::DecodedWorld LibraryReader::decode_world(const FramedRecord& record) const {
+    DecodedWorld out;
+    if (!record.skipped.empty() || !is_world_record(record.type, record.version)) return out;
     const std::string where = path_ + ", record at byte " + std::to_string(record.offset);
     try {
-        if (record.type == kRecordTypeWorld && record.version >= kOldestWorldRecordVersion &&
-            record.version <= kWorldRecordVersion) {
-            StoredWorld world = decode_world_record(record.payload.data(), record.payload.size(), record.version, where);
-            if (world.scene_body_count > body_names_.size())
-                throw LibraryError(where + ": world " + std::to_string(world.world_index) + " has " +
-                                   std::to_string(world.scene_body_count) + " bodies, the library's scene " +
-                                   std::to_string(body_names_.size()) + " (a scene revision is missing)");
-            complete_tracks(world, where);
-            if (options_.polyline_hz > 0) derive_polyline(world, options_.polyline_hz);
-            positions_[world.world_index] = worlds_.size();
-            worlds_.push_back(std::move(world));
-        } else if (record.type == kRecordTypeSceneRevision && record.version == kSceneRevisionRecordVersion) {
-            accept_scene_revision(record, where);
-        } else if (record.type == kRecordTypeRejection && record.version == kRejectionRecordVersion) {
-            rejections_.push_back(decode_rejection_record(record.payload.data(), record.payload.size(), where));
-        } else {
-            warnings_.push_back(where + ": record type " + std::to_string(record.type) + " version " +
-                                std::to_string(record.version) + " is not understood by this build; skipped");
-            return false;
+        out.world = decode_world_record(record.payload, record.size, record.version, where);
+        // A refined world takes unchanged tracks from its parent: completed once that is accepted.
+        if (out.world->parent_world < 0) {
+            complete_tracks(*out.world, where);
+            derive_world_polyline(*out.world);
         }
-    } catch (const LibraryError& error) {
-        warnings_.push_back(std::string(error.what()) + "; skipped");
-        return false;
-    } catch (const CodecError& error) {
-        warnings_.push_back(where + ": " + error.what() + "; skipped");
-        return false;
-    } catch (const SceneError& error) {
-        warnings_.push_back(where + ": scene revision: " + error.what() + "; skipped");
-        return false;
+    } catch (...) {
+        out.error = std::current_exception();
     }
-    if (options_.keep_raw_records) raw_.push_back(std::move(record));
-    return true;
+    return out;
 }
 
-void LibraryReader::accept_scene_revision(const RawRecord& record, const std::string& where) {
-    const SceneRevision revision = decode_scene_revision(record.payload.data(), record.payload.size(), where);
+void LibraryReader::accept_record(const FramedRecord& record, DecodedWorld&& decoded) {
+    if (!record.skipped.empty()) {
+        warnings_.push_back(record.skipped);
+        return;
+    }
+    const std::string where = path_ + ", record at byte " + std::to_string(record.offset);
+    bool understood = true;
+    const std::string warning = warning_from(where, [&] {
+        if (is_world_record(record.type, record.version)) {
+            accept_world(std::move(decoded), where);
+        } else if (record.type == kRecordTypeSceneRevision && record.version == kSceneRevisionRecordVersion) {
+            accept_scene_revision(record.payload, record.size, where);
+        } else if (record.type == kRecordTypeRejection && record.version == kRejectionRecordVersion) {
+            rejections_.push_back(decode_rejection_record(record.payload, record.size, where));
+        } else {
+            understood = false;
+        }
+    });
+    if (!understood) {
+        warnings_.push_back(where + ": record type " + std::to_string(record.type) + " version " +
+                            std::to_string(record.version) + " is not understood by this build; skipped");
+        return;
+    }
+    if (!warning.empty()) {
+        warnings_.push_back(warning);
+        return;
+    }
+    if (options_.keep_raw_records)
+        raw_.push_back({record.offset, record.type, record.version,
+                        std::vector<uint8_t>(record.payload, record.payload + record.size)});
+}
+
+void LibraryReader::accept_world(DecodedWorld&& decoded, const std::string& where) {
+    if (!decoded.world) std::rethrow_exception(decoded.error);
+    StoredWorld& world = *decoded.world;
+    if (world.scene_body_count > body_names_.size())
+        throw LibraryError(where + ": world " + std::to_string(world.world_index) + " has " +
+                           std::to_string(world.scene_body_count) + " bodies, the library's scene " +
+                           std::to_string(body_names_.size()) + " (a scene revision is missing)");
+    if (decoded.error) std::rethrow_exception(decoded.error);
+    if (world.parent_world >= 0) {
+        complete_tracks(world, where);
+        derive_world_polyline(world);
+    }
+    positions_[world.world_index] = worlds_.size();
+    worlds_.push_back(std::move(world));
+}
+
+void LibraryReader::derive_world_polyline(StoredWorld& world) const {
+    if (options_.polyline_hz > 0) derive_polyline(world, options_.polyline_hz);
+}
+
+void LibraryReader::accept_scene_revision(const uint8_t* payload, size_t size, const std::string& where) {
+    const SceneRevision revision = decode_scene_revision(payload, size, where);
     if (revision.revision != scene_revision_ + 1)
         throw LibraryError(where + ": scene revision " + std::to_string(revision.revision) + " follows revision " +
                            std::to_string(scene_revision_));
@@ -232,7 +322,7 @@ size_t LibraryReader::poll() {
     const size_t before = worlds_.size();
     const std::vector<uint8_t> bytes = read_file_from(path_, offset_);
     file_size_ = offset_ + bytes.size();
-    parse_records(bytes, offset_, false);
+    parse_records(bytes.data(), bytes.size(), offset_, false);
     return worlds_.size() - before;
 }
 

@@ -64,14 +64,25 @@ public:
     size_t poll();
 
 private:
+    struct FramedRecord;
+    struct DecodedWorld;
+
     void load(const std::vector<uint8_t>& bytes);
     void read_header(const std::vector<uint8_t>& bytes);
-    void parse_records(const std::vector<uint8_t>& bytes, uint64_t base_offset, bool at_end);
-    bool accept_record(RawRecord&& record);
+    /// Reads the records in `size` bytes at file offset `base_offset`: frames them in order, decodes
+    /// world records on all cores, then accepts everything in file order.
+    void parse_records(const uint8_t* bytes, size_t size, uint64_t base_offset, bool at_open);
+    std::vector<FramedRecord> frame_records(const uint8_t* bytes, size_t size, uint64_t base_offset, bool at_open);
+    /// The part of reading a world record that needs no other record: decoding it, and for a
+    /// sampled world (no parent) completing its tracks and deriving its polyline.
+    DecodedWorld decode_world(const FramedRecord& record) const;
+    void accept_record(const FramedRecord& record, DecodedWorld&& decoded);
+    void accept_world(DecodedWorld&& decoded, const std::string& where);
+    void derive_world_polyline(StoredWorld& world) const;
     /// One track per scene body of the world: a refined world stores only changed bodies (the rest
     /// come from its parent, read earlier), and bodies it lacks get empty, absent tracks.
     void complete_tracks(StoredWorld& world, const std::string& where) const;
-    void accept_scene_revision(const RawRecord& record, const std::string& where);
+    void accept_scene_revision(const uint8_t* payload, size_t size, const std::string& where);
 
     std::string path_;
     ReaderOptions options_;
