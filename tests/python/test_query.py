@@ -2,6 +2,9 @@
 import json
 import math
 import os
+import subprocess
+import threading
+import time
 
 import numpy as np
 import pytest
@@ -137,3 +140,54 @@ def test_worlds_and_refined_children_hold_their_rest_pose_to_the_runs_end(native
                 for brute_force in (False, True):
                     assert w in index.query([box], brute_force=brute_force)["matching"], (w, body, swept)
                     assert w not in index.query([negative], brute_force=brute_force)["matching"], (w, body, swept)
+
+
+def test_indexing_in_steps_takes_worlds_in_file_order_while_the_library_grows(native, engine, tmp_path):
+    """The add-on's background fill: add_library(limit=) indexes the next worlds in file order on
+    one thread while the main thread polls the library the engine is still appending to; nothing
+    is lost or indexed twice, and queries answer as on an index built at once."""
+    out = tmp_path / "growing.mwb"
+    scene_path = os.path.join(SCENES, "quickstart.json")
+    assert run_engine(engine, "sample", "--scene", scene_path, "--out", str(out), "--seed", "8",
+                      "--worlds", "0:30").returncode == 0
+    lib = native.Library(str(out))
+    radii = native.body_bounding_radii(native.Scene.from_json(lib.scene_json))
+    index = native.PathIndex(radii)
+    assert index.add_library(lib, threads=1, limit=7) == 7
+    box_all = native.QueryBox(look_at([0, -10, 5], [0, 0, 0.5]), perspective(0.9, 1.6, 0.1, 100), (1600, 1000),
+                              (0, 0, 1600, 1000), bodies=[2, 3, 4, 5])
+    assert list(index.query([box_all])["world_indices"]) == sorted(lib.world_indices[:7])
+
+    engine_run = subprocess.Popen([engine, "sample", "--scene", scene_path, "--out", str(out), "--seed", "8",
+                                   "--worlds", "30:90", "--threads", "1"], stdout=subprocess.DEVNULL)
+    added, errors = [], []
+
+    def fill():
+        try:
+            while len(lib.world_indices) < 90 or index.world_count < 90:
+                added.append(index.add_library(lib, threads=1, limit=3))
+                if not added[-1]:
+                    time.sleep(0.001)
+        except Exception as error:  # the assertion below names it
+            errors.append(error)
+
+    filler = threading.Thread(target=fill)
+    filler.start()
+    deadline = time.monotonic() + 120
+    while engine_run.poll() is None or len(lib.world_indices) < 90:
+        assert time.monotonic() < deadline, "the engine did not append its worlds"
+        lib.poll()
+        time.sleep(0.002)
+    filler.join(60)
+    assert not filler.is_alive() and not errors, errors
+    assert engine_run.returncode == 0 and sum(added) == 90 - 7 and index.world_count == 90
+    whole = native.PathIndex(radii)
+    whole.add_library(lib)
+    view, projection, size = look_at([3, -8, 6], [3, 0, 0]), perspective(0.9, 1.6, 0.1, 100), (1600, 1000)
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        x0, y0 = rng.uniform(0, 1400), rng.uniform(0, 800)
+        box = native.QueryBox(view, projection, size, (x0, y0, x0 + 200, y0 + 200), bodies=[2, 3])
+        got, expected = index.query([box]), whole.query([box])
+        assert np.array_equal(got["world_indices"], expected["world_indices"])
+        assert np.array_equal(got["matching"], expected["matching"])
