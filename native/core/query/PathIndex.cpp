@@ -118,8 +118,9 @@ bool PathIndex::world_satisfies(const World& world, const QueryBox& box, bool br
     bool entered = false;
     for (uint32_t body : box.bodies) {
         if (body >= body_radii_m_.size()) throw std::out_of_range("query box names body " + std::to_string(body));
-        // A body the world does not have never enters a box.
-        if (body >= world.paths.size() || world.paths[body].point_count() == 0) continue;
+        // A body the world does not have (no path: a sphere of negative radius) never enters a
+        // box. The spheres lie side by side, so a box over many bodies rarely touches the trees.
+        if (body >= world.root_spheres.size() || world.root_spheres[body][3] < 0) continue;
         const double radius = box.swept ? body_radii_m_[body] : 0.0;
         if (!brute_force && sphere_outside(box.frustum, world.root_spheres[body], radius)) continue;
         const PathTree& path = world.paths[body];
