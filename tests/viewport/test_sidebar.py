@@ -3,21 +3,25 @@
 Run by `tests/viewport/run.sh test_sidebar.py` (Blender started with --enable-event-simulate, the
 fixture of test_paths_drawn: a ground and three boxes, 24 sampled worlds). The sidebar is opened
 at its default width on the Many Worlds tab and the Physics properties show the variation panel.
-For each state a new user meets (library just opened with a passive object selected; boxes drawn
-and a world previewed; an object moved during the preview; the collapsed subpanels opened and the
+For each state a new user meets (library just opened with a passive object selected; its path
+index still filling; boxes drawn and a world previewed; an object moved during the preview; the collapsed subpanels opened and the
 variation ranges as min/max), every panel of the add-on is drawn through a recording layout
 (tests/viewport/label_fit.py) and every label, field and button text is measured against the
 width the panel gives it. The test fails on any text that does not fit, names it, and keeps a
 full-window screenshot of each state in the output folder. It also checks the panel order, that
 expert settings start collapsed, that the Paths panel says when a drawing budget leaves paths
 out, that the panel says which objects a new box tests (and which
-selected objects it leaves out), and that the preview state and an edit during it are said.
+selected objects it leaves out), that the Boxes panel counts the worlds indexed while the path
+index fills, and that the preview state and an edit during it are said.
 The sidebar at its top, halfway and at its end is kept as sidebar.png (the README's picture).
 Exit code 0 = pass.
 """
+import contextlib
 import json
 import os
 import sys
+import threading
+import time
 
 import bpy
 import gpu
@@ -26,7 +30,8 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 from many_worlds.core.session import SESSION  # noqa: E402
-from many_worlds.core import path_budget  # noqa: E402
+from many_worlds.core import library_query, path_budget  # noqa: E402
+from many_worlds.operators import browsing  # noqa: E402
 from many_worlds.draw import paths as path_overlay  # noqa: E402
 from many_worlds.ui import lists, panels  # noqa: E402
 import label_fit  # noqa: E402
@@ -200,6 +205,32 @@ def measure(state):
             "items": list(dict.fromkeys(items))}
 
 
+@contextlib.contextmanager
+def held_index_fill():
+    """The path index of a library opened inside fills in the background (even a small one) and
+    waits before its first step; on leaving, the fill runs to its end."""
+    gate = threading.Event()
+
+    class HeldFill(library_query.IndexFill):
+        def _step(self):
+            while not gate.wait(0.05):
+                if self.stopping:
+                    return 0
+            return super()._step()
+
+    saved = library_query.IndexFill, library_query.FOREGROUND_WORLDS
+    library_query.IndexFill, library_query.FOREGROUND_WORLDS = HeldFill, 0
+    try:
+        yield
+    finally:
+        library_query.IndexFill, library_query.FOREGROUND_WORLDS = saved
+        gate.set()
+    deadline = time.monotonic() + 30
+    while SESSION.query is not None and SESSION.query.filling:
+        assert time.monotonic() < deadline, "the index did not fill"
+        time.sleep(0.01)
+
+
 def texts(where):
     return [item.text for label, rec, region in DRAWN if label == where
             for item, _ in rec.items_with_width(1000, 1.0, [])]
@@ -268,6 +299,16 @@ def steps():
     boxes_text = " ".join(texts("Boxes"))
     assert "A new box tests Box0" in boxes_text and "Ground" in boxes_text, boxes_text
     assert "Many Worlds Variation" in results[-1]["drawn"], results[-1]["drawn"]
+
+    # The library opened again while its path index still fills: the Boxes panel says how far.
+    with held_index_fill():
+        assert browsing.open_library(scene)
+        yield
+        redraw_all()
+        results.append(measure("index_filling"))
+        window_screenshot("index_filling.png")
+        boxes_text = " ".join(texts("Boxes"))
+        assert f"Indexing 0 of {len(SESSION.view.world_indices)} worlds" in boxes_text, boxes_text
 
     # Boxes drawn through the viewport, a world previewed from the ranking.
     with bpy.context.temp_override(window=window, area=area, region=region):
