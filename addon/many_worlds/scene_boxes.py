@@ -34,6 +34,7 @@ def library_query():
         if SESSION.query is not None:
             SESSION.query.close()
         SESSION.query = core_query.LibraryQuery(_native, view, background=True)
+        follow_index_fill(SESSION.query)
     return SESSION.query
 
 
@@ -53,6 +54,8 @@ def poll_index_fill():
     # Read before evaluating: a fill that ends meanwhile still gets its last evaluation next time.
     filling = lq.filling
     try:
+        # Raises what stopped the fill; starts another for worlds that arrived after it ended.
+        lq.sync()
         result = lq.result
         if result is not None and result.box_count and result.indexed != lq.indexed_count:
             refresh(bpy.context.scene)

@@ -10,6 +10,7 @@
 #include "library/ByteIO.h"
 #include "library/FileBytes.h"
 #include "library/LibraryFormat.h"
+#include "library/RecordFraming.h"
 #include "library/SceneRevision.h"
 #include "scene/SceneJson.h"
 #include "library/WorldDecoding.h"
@@ -17,30 +18,6 @@
 
 namespace mwb {
 namespace {
-
-uint32_t u32_at(const uint8_t* p) {
-    uint32_t v;
-    std::memcpy(&v, p, 4);
-    return v;
-}
-
-// A complete, checksummed record starts at `at` of the `size` bytes?
-bool valid_record_at(const uint8_t* bytes, size_t size, size_t at) {
-    if (size - at < kRecordHeaderBytes) return false;
-    const uint8_t* p = bytes + at;
-    if (u32_at(p) != kRecordMagic) return false;
-    const uint32_t payload = u32_at(p + 12);
-    if (payload > kMaxRecordPayloadBytes || size - at - kRecordHeaderBytes < payload) return false;
-    const uint32_t crc = crc32_of(p + kRecordHeaderBytes, payload, crc32_of(p + 4, 12));
-    return crc == u32_at(p + 16);
-}
-
-// First offset after `from` where a valid record starts, or `size`.
-size_t find_next_record(const uint8_t* bytes, size_t size, size_t from) {
-    for (size_t at = from; at + kRecordHeaderBytes <= size; ++at)
-        if (valid_record_at(bytes, size, at)) return at;
-    return size;
-}
 
 bool is_world_record(uint32_t type, uint32_t version) {
     return type == kRecordTypeWorld && version >= kOldestWorldRecordVersion && version <= kWorldRecordVersion;
@@ -62,17 +39,6 @@ std::string warning_from(const std::string& where, Read&& read) {
 }
 
 }  // namespace
-
-// A record framed in the bytes read, its payload pointing into them; or, with `skipped` set, the
-// warning about bytes skipped there (kept in line so warnings come in file order).
-struct LibraryReader::FramedRecord {
-    uint64_t offset = 0;
-    uint32_t type = 0;
-    uint32_t version = 0;
-    const uint8_t* payload = nullptr;
-    uint32_t size = 0;
-    std::string skipped;
-};
 
 // A world record as far as it was read on its own: no world if its payload did not decode; an
 // error from decoding or from completing it, rethrown when it is accepted in file order.
@@ -115,7 +81,8 @@ void LibraryReader::read_header(const std::vector<uint8_t>& bytes) {
     if (size > kMaxHeaderBytes || size + 4 > in.remaining())
         throw LibraryError(path_ + ", byte 12: run header is truncated");
     const uint8_t* text = bytes.data() + in.offset();
-    const uint32_t crc = u32_at(text + size);
+    uint32_t crc;
+    std::memcpy(&crc, text + size, 4);
     if (crc32_of(text, size) != crc) throw LibraryError(path_ + ", byte 16: run header checksum mismatch");
     header_ = run_header_from_json(std::string(reinterpret_cast<const char*>(text), size), path_);
     scene_json_ = header_.scene_json;
@@ -140,7 +107,9 @@ void LibraryReader::read_header(const std::vector<uint8_t>& bytes) {
 }
 
 void LibraryReader::parse_records(const uint8_t* bytes, size_t size, uint64_t base_offset, bool at_open) {
-    const std::vector<FramedRecord> records = frame_records(bytes, size, base_offset, at_open);
+    size_t consumed = 0;
+    const std::vector<FramedRecord> records = frame_records(bytes, size, base_offset, path_, at_open, consumed);
+    offset_ = base_offset + consumed;
     std::vector<DecodedWorld> decoded(records.size());
     const auto count = static_cast<std::ptrdiff_t>(records.size());
     // Decoding world records (and a sampled world's polyline) is most of the reading, and each
@@ -148,43 +117,6 @@ void LibraryReader::parse_records(const uint8_t* bytes, size_t size, uint64_t ba
 #pragma omp parallel for schedule(dynamic, 16)
     for (std::ptrdiff_t k = 0; k < count; ++k) decoded[static_cast<size_t>(k)] = decode_world(records[static_cast<size_t>(k)]);
     for (size_t k = 0; k < records.size(); ++k) accept_record(records[k], std::move(decoded[k]));
-}
-
-std::vector<LibraryReader::FramedRecord> LibraryReader::frame_records(const uint8_t* bytes, size_t size,
-                                                                      uint64_t base_offset, bool at_open) {
-    std::vector<FramedRecord> records;
-    size_t at = 0;
-    while (at < size) {
-        if (valid_record_at(bytes, size, at)) {
-            const uint8_t* p = bytes + at;
-            FramedRecord record;
-            record.offset = base_offset + at;
-            record.type = u32_at(p + 4);
-            record.version = u32_at(p + 8);
-            record.size = u32_at(p + 12);
-            record.payload = p + kRecordHeaderBytes;
-            at += kRecordHeaderBytes + record.size;
-            records.push_back(std::move(record));
-            continue;
-        }
-        const size_t next = find_next_record(bytes, size, at + 1);
-        FramedRecord skipped;
-        if (next == size) {
-            // Nothing valid follows: an incomplete last record, perhaps still being written.
-            if (at_open) {
-                skipped.skipped = path_ + ", byte " + std::to_string(base_offset + at) + ": last record is incomplete (" +
-                                  std::to_string(size - at) + " bytes); skipped - the writer was interrupted or is still writing";
-                records.push_back(std::move(skipped));
-            }
-            break;
-        }
-        skipped.skipped = path_ + ", byte " + std::to_string(base_offset + at) +
-                          ": damaged record (bad magic or checksum); skipped " + std::to_string(next - at) + " bytes";
-        records.push_back(std::move(skipped));
-        at = next;
-    }
-    offset_ = base_offset + at;
-    return records;
 }
 
 LibraryReader::DecodedWorld LibraryReader::decode_world(const FramedRecord& record) const {

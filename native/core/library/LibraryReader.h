@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "library/RecordFraming.h"
 #include "library/RunHeader.h"
 #include "library/WorldRecord.h"
 
@@ -64,7 +65,6 @@ public:
     size_t poll();
 
 private:
-    struct FramedRecord;
     struct DecodedWorld;
 
     void load(const std::vector<uint8_t>& bytes);
@@ -72,7 +72,6 @@ private:
     /// Reads the records in `size` bytes at file offset `base_offset`: frames them in order, decodes
     /// world records on all cores, then accepts everything in file order.
     void parse_records(const uint8_t* bytes, size_t size, uint64_t base_offset, bool at_open);
-    std::vector<FramedRecord> frame_records(const uint8_t* bytes, size_t size, uint64_t base_offset, bool at_open);
     /// The part of reading a world record that needs no other record: decoding it, and for a
     /// sampled world (no parent) completing its tracks and deriving its polyline.
     DecodedWorld decode_world(const FramedRecord& record) const;
