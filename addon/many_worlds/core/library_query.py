@@ -8,6 +8,7 @@ library just opened) fills on a background thread (`IndexFill`): the paths are d
 and queries and rankings answer for the worlds indexed so far (a world not indexed yet matches no
 box and is not ranked).
 """
+import os
 import threading
 from dataclasses import dataclass
 from typing import Optional, Sequence, Tuple
@@ -221,7 +222,7 @@ class LibraryQuery:
         if not self.background or backlog <= FOREGROUND_WORLDS:
             return self.index.add_library(self.view.library)
         # One core stays free for Blender's UI.
-        self._fill = IndexFill(self.index, self.view.library, threads=1)
+        self._fill = IndexFill(self.index, self.view.library, threads=max(1, (os.cpu_count() or 1) - 1))
         return 0
 
     def complete(self):
