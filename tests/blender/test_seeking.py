@@ -89,7 +89,10 @@ def test_seek_refines_until_a_world_meets_every_box_and_previews_the_best(quicks
     # Random sampling meets this goal in about one world in a hundred; the search within 600
     # (refining, and sampling afresh when refinement stops getting nearer).
     assert outcome.reached, SESSION.status
-    assert SESSION.status.startswith("Goal reached: 1 world meets all 3 boxes"), SESSION.status
+    # One refinement makes several worlds at once: more than the one wanted may meet the goal.
+    assert SESSION.status.startswith("Goal reached: "), SESSION.status
+    assert SESSION.status == engine_process.seek_outcome_text(outcome, 1), SESSION.status
+    assert outcome.best in outcome.found
     assert outcome.found and all(boxes_met(w) == 3 and SESSION.view.matching[SESSION.view.world_indices.index(w)]
                                  for w in outcome.found)
     # The goal the engine read is the boxes of the panel, by body.

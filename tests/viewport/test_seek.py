@@ -158,8 +158,9 @@ def steps():
     met = [first_met] + [m for m, _, _ in shown] + [outcome.best_boxes_met]
     assert met == sorted(met) and met[-1] > first_met, met
     # The goal is reached, and the world selected and previewed meets every box.
-    assert outcome.reached and outcome.best_boxes_met == 3 and outcome.found == (outcome.best,), outcome
-    assert SESSION.status.startswith("Goal reached: 1 world meets all 3 boxes"), SESSION.status
+    # One refinement makes several worlds at once: more than the one wanted may meet the goal.
+    assert outcome.reached and outcome.best_boxes_met == 3 and outcome.best in outcome.found, outcome
+    assert all(boxes_met(w) == 3 for w in outcome.found), outcome
     assert SESSION.status == engine_process.seek_outcome_text(outcome, 1), SESSION.status
     assert settings.selected_world == outcome.best and settings.previewing, (settings.selected_world, outcome)
     assert settings.worlds[settings.world_list_index].world_index == outcome.best
