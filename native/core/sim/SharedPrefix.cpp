@@ -40,7 +40,12 @@ PrefixSharingSimulator::PrefixSharingSimulator(const CompiledScene& compiled, ui
 WorldResult PrefixSharingSimulator::simulate(uint64_t world_index, const std::atomic<bool>* cancel) {
     if (!branch_) {
         WorldResult world = simulate_world(compiled_, base_seed_, world_index, cancel);
-        if (share_ && world.status == WorldStatus::Ok) keep_prefix_of(world);
+        // Worlds that start alike all have their first impact at the same step: one complete
+        // world tells whether there is a prefix worth sharing.
+        if (share_ && world.status == WorldStatus::Ok) {
+            keep_prefix_of(world);
+            share_ = branch_.has_value();
+        }
         return world;
     }
     // Until its first perturbed impact a world has drawn nothing from its perturbation stream, so

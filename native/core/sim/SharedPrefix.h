@@ -35,7 +35,7 @@ private:
 
     const CompiledScene& compiled_;
     uint64_t base_seed_;
-    bool share_;
+    bool share_;  ///< still looking for a prefix to share (off once a complete world had none)
     /// The source's checkpoint later worlds start from, and what came before it.
     std::optional<Checkpoint> branch_;
     uint32_t prefix_frames_ = 0;
