@@ -10,6 +10,7 @@
 #include "library/ByteIO.h"
 #include "library/LibraryMerge.h"
 #include "library/LibraryReader.h"
+#include "library/PolylineGather.h"
 #include "library/WorldDecoding.h"
 #include "PyLibrary.h"
 
@@ -62,6 +63,34 @@ py::array_t<double> decoded(const PyLibrary& l, uint64_t w, std::vector<double> 
         data = decode(world, l.reader().scene_body_count());
     }
     return as_array(std::move(data), {static_cast<py::ssize_t>(body_rows(l, world)), world.frame_count, width});
+}
+
+// float32 (worlds, bodies, points, 3) of the chosen bodies' polylines, copied without the GIL.
+py::array_t<float> gathered_polylines(const PyLibrary& l, const std::vector<uint64_t>& world_indices,
+                                      const std::vector<int64_t>& bodies, int64_t stride) {
+    if (stride < 1) throw py::value_error("stride must be at least 1, got " + std::to_string(stride));
+    const size_t body_count = l.reader().scene_body_count();
+    std::vector<uint32_t> rows;
+    for (const int64_t body : bodies) {
+        if (body < 0 || static_cast<size_t>(body) >= body_count)
+            throw py::index_error("body " + std::to_string(body) + " out of range: the library has " +
+                                  std::to_string(body_count) + " bodies");
+        rows.push_back(static_cast<uint32_t>(body));
+    }
+    // Held from the first look-up on, so poll() cannot move the worlds while they are copied.
+    const auto lock = l.read_lock();
+    std::vector<const StoredWorld*> worlds;
+    for (const uint64_t w : world_indices) worlds.push_back(&l.world(w));
+    const uint32_t step = static_cast<uint32_t>(std::min<int64_t>(stride, std::numeric_limits<uint32_t>::max()));
+    const uint32_t points = gathered_point_count(worlds, step);
+    py::array_t<float> out({static_cast<py::ssize_t>(worlds.size()), static_cast<py::ssize_t>(rows.size()),
+                            static_cast<py::ssize_t>(points), py::ssize_t{3}});
+    float* data = out.mutable_data();
+    {
+        py::gil_scoped_release release;
+        gather_polylines(worlds, rows, step, points, data);
+    }
+    return out;
 }
 
 // One refinement of a world's lineage, as Python sees it.
@@ -207,6 +236,11 @@ void bind_library(py::module_& m) {
              py::arg("world"),
              "float32 (bodies, points, 3): the path down-sampled on load (every polyline_stride-th frame and the\n"
              "last); NaN for absent bodies")
+        .def("polylines", &gathered_polylines, py::arg("worlds"), py::arg("bodies"), py::arg("stride") = 1,
+             "float32 (len(worlds), len(bodies), points, 3): the given bodies' polylines of many worlds at once,\n"
+             "each thinned to its points 0, stride, 2 stride, ... and its last, as polyline(world)[bodies] would\n"
+             "be; NaN for bodies a world does not have and after a path shorter than the longest. KeyError for a\n"
+             "world not in the library, IndexError for a body out of range, ValueError for stride < 1.")
         .def("polyline_stride", [](const PyLibrary& l, uint64_t w) { return l.world(w).polyline_stride; }, py::arg("world"))
         .def("rest_times",
              [](const PyLibrary& l, uint64_t w) {

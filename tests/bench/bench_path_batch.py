@@ -2,13 +2,18 @@
 drawing budget (2,000,000 vertices), on the CPU.
 
 /usr/bin/python3 tests/bench/bench_path_batch.py
+/usr/bin/python3 tests/bench/bench_path_batch.py LIBRARY.mwb   (also measures a real library)
 Times core.path_budget.build_path_arrays: choosing the paths, thinning them, and the float32
 vertex and colour arrays that draw.paths hands to gpu.types.GPUBatch (these machines have no GPU,
 and Blender's gpu module does not work in background mode). Paths are 10 s at 30 Hz (301 points);
-a world's polyline is a copy of one of 16 synthetic random walks, as the library copies a world's
-polyline out on each read. Each case builds from nothing (no cached segments), best of 5.
-Prints a table and `BENCH path_batch_ms_10000x200 <ms>` (the first case).
+a world's paths are those of one of 16 synthetic random walks, gathered body by body as
+Library.polylines gathers them. Each case builds from nothing, best of 5.
+Prints a table and `BENCH path_batch_ms_10000x200 <ms>` (the first case) and one line per case.
+Then the same cases thinned in screen space for a 1600 x 900 viewport looking at the paths: how
+many more worlds fit the budget, and the time it costs; with a library, the same for its worlds
+(all bodies, none selected or matching, a view of the whole scene).
 """
+import json
 import os
 import sys
 import time
@@ -18,7 +23,10 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "addon"))
 
-from many_worlds.core import palette, path_budget  # noqa: E402
+sys.path.insert(0, os.path.join(ROOT, "tests", "shared"))
+
+from camera_math import look_at, perspective  # noqa: E402
+from many_worlds.core import palette, path_budget, screen_thinning  # noqa: E402
 
 WORLDS, BODIES, POINTS, DISTINCT, RUNS = 10_000, 200, 301, 16, 5
 
@@ -49,31 +57,84 @@ def cases(rng):
     ]
 
 
+def gathered(pool):
+    """Library.polylines over worlds whose paths are pool[world % DISTINCT]."""
+    def polylines_of(worlds, bodies, stride):
+        kept = path_budget.thinned_indices(pool.shape[2], stride)
+        rows = (np.asarray(worlds, np.intp) % len(pool))[:, None, None]
+        return pool[rows, np.asarray(bodies, np.intp)[None, :, None], kept[None, None, :]]
+    return polylines_of
+
+
+def screen_looking_at(lo, hi):
+    """A 1600 x 900 viewport seeing the box lo..hi whole, from the front, above and to the side."""
+    centre, size = (np.asarray(lo) + hi) / 2, float(np.linalg.norm(np.asarray(hi) - lo))
+    eye = centre + size * np.array([0.9, -1.1, 0.6])
+    matrix = perspective(0.8, 1600 / 900, 0.1, 100 * size) @ look_at(eye, centre)
+    return screen_thinning.ScreenView(tuple(map(tuple, matrix)), 1600, 900)
+
+
+def timed(build):
+    """(the last result, best ms, worst ms) of RUNS calls of build()."""
+    times = []
+    for _ in range(RUNS):
+        start = time.perf_counter()
+        result = build()
+        times.append((time.perf_counter() - start) * 1000)
+    return result, min(times), max(times)
+
+
 def main():
     rng = np.random.default_rng(0)
     pool = synthetic_polylines(rng)
-
-    def polyline_of(world):
-        return pool[world % DISTINCT].copy()
-
-    def present_of(world, bodies):
-        return bodies
-
+    polylines_of = gathered(pool)
+    screen = screen_looking_at(np.nanmin(pool, axis=(0, 1, 2)), np.nanmax(pool, axis=(0, 1, 2)))
     rows = []
     for name, choice in cases(rng):
-        times = []
-        for _ in range(RUNS):
-            start = time.perf_counter()
-            arrays = path_budget.build_path_arrays(choice, polyline_of, present_of)
-            times.append((time.perf_counter() - start) * 1000)
-        assert arrays.vertex_count <= path_budget.VERTEX_BUDGET
-        rows.append((name, arrays, min(times), max(times)))
-    print(f"{'case':<46} {'vertices':>10} {'worlds':>7} {'stride':>7} {'best ms':>8} {'worst ms':>9}")
-    for name, arrays, best, worst in rows:
+        arrays, best, worst = timed(lambda: path_budget.build_path_arrays(choice, polylines_of))
+        thinned, thinned_best, _ = timed(lambda: path_budget.build_path_arrays(choice, polylines_of, screen=screen))
+        assert arrays.vertex_count <= path_budget.VERTEX_BUDGET >= thinned.vertex_count
+        rows.append((name, arrays, best, worst, thinned, thinned_best))
+    print(f"{'case':<46} {'vertices':>10} {'worlds':>7} {'stride':>7} {'best ms':>8} {'worst ms':>9}"
+          f" | {'on screen: worlds':>17} {'best ms':>8}")
+    for name, arrays, best, worst, thinned, thinned_best in rows:
         print(f"{name:<46} {arrays.vertex_count:>10,} {arrays.worlds_drawn:>7,} {arrays.coarsest_stride:>7} "
-              f"{best:>8.1f} {worst:>9.1f}")
+              f"{best:>8.1f} {worst:>9.1f} | {thinned.worlds_drawn:>17,} {thinned_best:>8.1f}")
     print(f"BENCH path_batch_ms_{WORLDS}x{BODIES} {rows[0][2]:.1f}")
-    print(f"BENCH path_batch_ms_{WORLDS}x{BODIES}_3_selected_all_matching {rows[3][2]:.1f}")
+    for name, _, best, _, thinned, thinned_best in rows[1:]:
+        print(f"BENCH path_batch_ms_{WORLDS}x{BODIES} {name}: {best:.1f}")
+    for name, arrays, best, _, thinned, thinned_best in rows:
+        print(f"BENCH path_batch_screen_thinning {name}: worlds {arrays.worlds_drawn:,} -> {thinned.worlds_drawn:,}, "
+              f"stride {arrays.coarsest_stride} -> {thinned.coarsest_stride}, {best:.1f} -> {thinned_best:.1f} ms")
+    if len(sys.argv) > 1:
+        library_case(sys.argv[1])
+
+
+def library_case(path):
+    """Worlds drawn within the budget with and without screen thinning, all bodies of a library: its
+    own worlds, then WORLDS worlds made of its worlds over and over (a library bigger than the
+    budget at the coarsest stride)."""
+    from many_worlds import _native
+    library = _native.Library(path)
+    names = [b["name"] for b in json.loads(library.scene_json)["bodies"]]
+    bodies = tuple(range(library.body_count))
+    own = library.world_indices
+    sample = library.polylines(own[:200], list(bodies), 1)
+    screen = screen_looking_at(np.nanmin(sample, axis=(0, 1, 2)), np.nanmax(sample, axis=(0, 1, 2)))
+    colours = palette.body_colours(names, list(bodies))
+
+    def tiled(worlds, bodies, stride):
+        return library.polylines([own[w % len(own)] for w in worlds], bodies, stride)
+
+    for worlds, polylines_of in ((own, library.polylines), (list(range(WORLDS)), tiled)):
+        choice = path_budget.PathChoice(worlds, np.zeros(len(worlds), bool), -1, bodies, (), colours)
+        plain, best, _ = timed(lambda: path_budget.build_path_arrays(choice, polylines_of))
+        thinned, thinned_best, _ = timed(lambda: path_budget.build_path_arrays(choice, polylines_of, screen=screen))
+        repeated = "" if worlds is own else f" (its {len(own):,} over and over)"
+        print(f"BENCH path_batch_screen_thinning {os.path.basename(path)} {len(worlds):,} worlds x {len(bodies)} "
+              f"bodies{repeated}: worlds {plain.worlds_drawn:,} -> {thinned.worlds_drawn:,}, "
+              f"stride {plain.coarsest_stride} -> {thinned.coarsest_stride}, vertices "
+              f"{plain.vertex_count:,} -> {thinned.vertex_count:,}, {best:.1f} -> {thinned_best:.1f} ms")
 
 
 main()

@@ -12,14 +12,24 @@ def polyline_of(world):
     return np.stack([np.stack([t * (b + 1), t * world, t], axis=-1) for b in range(BODIES)])
 
 
-def build(matching, selected=-1, preferred=(), budget=path_budget.VERTEX_BUDGET, absent=None):
+def polylines_of(absent=None):
+    """Library.polylines over polyline_of's worlds; `absent`: a (world, body) the world lacks."""
+    def read(worlds, bodies, stride):
+        points = len(path_budget.thinned_indices(POINTS, stride))
+        out = np.full((len(worlds), len(bodies), points, 3), np.nan, np.float32)
+        for i, world in enumerate(worlds):
+            for j, body in enumerate(bodies):
+                if (world, body) != absent:
+                    out[i, j] = polyline_of(world)[body, path_budget.thinned_indices(POINTS, stride)]
+        return out
+    return read
+
+
+def build(matching, selected=-1, preferred=(), budget=path_budget.VERTEX_BUDGET, absent=None, screen=None):
     worlds = list(range(len(matching)))
     choice = path_budget.PathChoice(worlds, np.asarray(matching, bool), selected, tuple(range(BODIES)),
                                     preferred, COLOURS)
-
-    def present_of(world, bodies):
-        return tuple(b for b in bodies if (world, b) != absent)
-    return path_budget.build_path_arrays(choice, polyline_of, present_of, budget)
+    return path_budget.build_path_arrays(choice, polylines_of(absent), budget, screen)
 
 
 def test_thinning_keeps_the_first_every_stride_th_and_the_last_point():

@@ -8,7 +8,8 @@ paths on, with a world selected, with the selected world's paths drawn alone, wi
 and with no world selected; the 3D viewport's pixels must show each box's path colour (and the
 selected world's colour) only while drawing is on. The selected world must show (nearly) as many pixels
 among the other paths as alone: it is drawn on top. With a budget of an eighth of the vertices, fewer
-paths are drawn and the panel's line names the subset; plain redraws do not rebuild the batches. The label naming the selected world (in the
+paths are drawn and the panel's line names the subset; plain redraws do not rebuild the batches, and
+the paths drawn are thinned for the view (core.screen_thinning). The label naming the selected world (in the
 selected world's colour, bottom-left) must be drawn there only while a world is selected.
 Exit code 0 = pass.
 """
@@ -81,6 +82,7 @@ def steps():
         area.tag_redraw()
         yield
     results["rebuilds_on_redraw"] = paths.OVERLAY.rebuilds - rebuilds
+    results["thinned_on_screen"] = paths.OVERLAY.arrays.screen is not None
     # A budget of an eighth of the vertices: fewer paths drawn, and the panel's line. (With a
     # quarter, thinning keeps most paths and their pixels within a few percent of the bound.)
     paths.OVERLAY.vertex_budget = paths.OVERLAY.arrays.vertex_count // 8
@@ -131,6 +133,8 @@ def steps():
     # Each box's paths in its own colour, and no paths in a colour no object has.
     assert min(results["paths_on"]["objects"][:3]) > 300 and results["paths_on"]["objects"][3] < 20, results
     assert results["rebuilds_on_redraw"] == 0, results
+    # Once the view stood still the paths were thinned for it, and still show each box's colour.
+    assert results["thinned_on_screen"], results
     assert results["world_selected"]["selected"] > 100, results
     # Neither the other paths nor the scene hide the selected world: it shows as among none.
     assert results["world_selected"]["selected"] > 0.9 * results["selected_alone"]["selected"], results

@@ -7,15 +7,18 @@ selected objects'), matched worlds' other bodies, then the same for rejected wor
 thinned by a stride (every stride-th recorded point, and the last) just enough to fit what is left
 of the budget, down to MIN_SEGMENTS segments a path; when even that does not fit, the tier draws
 the worlds that fit, taken in an order whose every beginning is spread evenly over the library
-(bit-reversed positions), and later tiers draw nothing.
+(bit-reversed positions), and later tiers draw nothing. Given the view, a tier's paths are also
+thinned in screen space (core.screen_thinning) before worlds are counted against the budget.
+Only the bodies a tier draws are read from the library, for many worlds at once.
 """
 import functools
+import itertools
 from dataclasses import dataclass, field
 from typing import Callable, Optional, Sequence
 
 import numpy as np
 
-from . import palette
+from . import palette, screen_thinning
 
 # Vertices the viewport draws at most (line-list vertices: two per segment).
 VERTEX_BUDGET = 2_000_000
@@ -24,6 +27,10 @@ MIN_SEGMENTS = 16
 # While a world is selected, the other paths' alpha is scaled by this, so the selected one stands out.
 DIMMED_ALPHA = 0.35
 SELECTED_COLOR = (0.1, 0.85, 1.0, 1.0)
+# Thinned on screen, a tier's stride is chosen from about this many points of a sample of its
+# worlds, expected to fill at most this share of the budget (the rest is spread differently).
+SAMPLE_POINTS = 100_000
+SAMPLE_MARGIN = 0.9
 
 
 @functools.lru_cache(maxsize=64)
@@ -76,10 +83,38 @@ def line_segments(polyline, bodies, stride):
     if len(bodies) == 0 or len(kept) < 2:
         return np.zeros((0, 3), np.float32)
     paths = polyline[np.asarray(bodies, dtype=np.intp)[:, None], kept[None, :]]
-    out = np.empty((len(bodies), len(kept) - 1, 2, 3), np.float32)
-    out[:, :, 0] = paths[:, :-1]
-    out[:, :, 1] = paths[:, 1:]
-    return out.reshape(-1, 3)
+    return joined_segments(paths, np.ones(paths.shape[:2], bool))[0]
+
+
+def joined_segments(paths, keep):
+    """(line-list vertices float32 (2 segments, 3), the path index of each segment) joining each
+    path's kept points in order; paths float32 (..., points, 3), keep bool (..., points). Paths are
+    numbered in C order of the leading axes."""
+    points = paths.shape[-2]
+    paths, keep = paths.reshape(-1, points, 3), keep.reshape(-1, points)
+    if points < 2:
+        return np.zeros((0, 3), np.float32), np.zeros(0, np.intp)
+    # Paths whose kept points are all their first ones (not thinned on screen) join neighbours:
+    # strided copies, much faster than gathering kept points one by one.
+    ends = keep[:, 1:]
+    if not np.any(ends & ~keep[:, :-1]):
+        out = np.empty((len(paths), points - 1, 2, 3), np.float32)
+        out[:, :, 0] = paths[:, :-1]
+        out[:, :, 1] = paths[:, 1:]
+        path_of = np.broadcast_to(np.arange(len(paths))[:, None], ends.shape)
+        if ends.all():
+            return out.reshape(-1, 3), path_of.reshape(-1)
+        return out[ends].reshape(-1, 3), path_of[ends]
+    kept = np.flatnonzero(keep)
+    path_of = kept // points
+    joined = path_of[:-1] == path_of[1:]
+    # Points as single 12-byte items: gathering them is several times faster than rows of 3.
+    flat = np.ascontiguousarray(paths, np.float32).reshape(-1, 3).view(np.dtype((np.void, 12))).reshape(-1)
+    kept_points = flat[kept]
+    out = np.empty((int(np.count_nonzero(joined)), 2), flat.dtype)
+    out[:, 0] = kept_points[:-1][joined]
+    out[:, 1] = kept_points[1:][joined]
+    return out.view(np.float32).reshape(-1, 3), path_of[:-1][joined]
 
 
 @dataclass(frozen=True)
@@ -118,7 +153,7 @@ class PathArrays:
     coarsest_stride: int = 1
     worlds: set = field(default_factory=set)            # the worlds drawn
     drawn: list = field(default_factory=list)           # (world, bodies, stride) of each part drawn
-    segments: dict = field(default_factory=dict)        # (world, bodies, stride) -> line-list vertices
+    screen: Optional[screen_thinning.ScreenView] = None  # the view the paths were thinned for
 
     @property
     def vertex_count(self):
@@ -149,112 +184,129 @@ def _tiers(choice):
     return tiers
 
 
-def build_path_arrays(choice: PathChoice, polyline_of: Callable, present_of: Callable,
-                      budget: int = VERTEX_BUDGET, cache: Optional[dict] = None):
+def build_path_arrays(choice: PathChoice, polylines_of: Callable, budget: int = VERTEX_BUDGET,
+                      screen: Optional[screen_thinning.ScreenView] = None):
     """The arrays of the paths `choice` draws within `budget` vertices.
 
-    polyline_of(world) -> float32 (bodies, points, 3); present_of(world, bodies) -> the bodies of
-    `bodies` the world has. cache: the `segments` of the previous PathArrays, whose thinned
-    segments are reused. Each world's polyline is read at most once.
+    polylines_of(worlds, bodies, stride) -> float32 (len(worlds), len(bodies), points, 3): each
+    world's paths of those bodies at every stride-th point and the last, NaN for bodies the world
+    does not have and past a path shorter than the longest (Library.polylines). Only the bodies
+    and worlds a tier may draw are read. screen: the view the paths are drawn in; vertices that
+    add nothing visible in it are dropped (core.screen_thinning), so more worlds fit.
     """
-    worlds = list(choice.worlds)
-    cache = cache or {}
-    segments, read = {}, {}
-
-    def read_once(world):
-        if world not in read:
-            read[world] = polyline_of(world)
-        return read[world]
-
-    plan, tiers_left_out = _plan(choice, worlds, budget - _selected_size(choice, worlds, present_of, read_once),
-                                 read_once)
-    needs = {}   # world -> [(bodies, stride)] of every tier expected to draw it
-    for positions, bodies, _, stride, fit in plan:
-        for k in positions[:fit]:
-            needs.setdefault(worlds[k], []).append((bodies, stride))
-
-    def part(world, bodies, stride):
-        key = (world, bodies, stride)
-        if key not in cache:
-            # Thin everything this build may take of the world from one read of its polyline.
-            lines = read.pop(world, None)
-            lines = polyline_of(world) if lines is None else lines
-            for tier_bodies, tier_stride in needs.get(world, []) + [(bodies, stride)]:
-                present = present_of(world, tier_bodies)
-                if (world, present, tier_stride) not in cache:
-                    cache[(world, present, tier_stride)] = line_segments(lines, present, tier_stride)
-        segments[key] = cache[key]
-        return cache[key]
-
+    worlds = np.asarray(list(choice.worlds), dtype=np.int64)
     arrays = PathArrays(*[np.zeros((0, n), np.float32) for n in (3, 4, 3, 4)], worlds_total=len(worlds),
-                        segments=segments)
-    if choice.selected in worlds:
-        bodies = present_of(choice.selected, choice.bodies)
-        arrays.selected = part(choice.selected, bodies, 1)
-        arrays.selected_colours = _colours(bodies, len(arrays.selected), _rgba(choice))
-        budget -= len(arrays.selected)
-        arrays.paths_drawn += len(bodies)
-        arrays.worlds.update([choice.selected] if bodies else [])
-        arrays.drawn.append((choice.selected, bodies, 1))
+                        screen=screen)
+    has_selected = choice.selected in set(worlds.tolist())
+    if has_selected:
+        paths = polylines_of([choice.selected], list(choice.bodies), 1)
+        lines, path_of = joined_segments(paths, np.isfinite(paths[..., 0]))
+        present = _present(choice.bodies, np.isfinite(paths[0, :, 0, 0]))
+        arrays.selected = lines
+        arrays.selected_colours = _rgba(choice)[np.repeat(np.asarray(choice.bodies, np.intp)[path_of], 2)]
+        budget -= len(lines)
+        arrays.paths_drawn += len(present)
+        arrays.worlds.update([choice.selected] if present else [])
+        arrays.drawn.append((choice.selected, present, 1))
     shades = {True: np.array([palette.matching(c) for c in choice.body_colours], np.float32).reshape(-1, 4),
               False: np.array([palette.rejected(c) for c in choice.body_colours], np.float32).reshape(-1, 4)}
-    if choice.selected in worlds:
+    if has_selected:
         for table in shades.values():
             table[:, 3] *= DIMMED_ALPHA
     taken = {True: ([], []), False: ([], [])}
-    colours = {}   # (bodies, vertices, matched) -> their colours: worlds share them
-    full = False   # a world did not fit: what is not taken yet is left out
-    for positions, bodies, matched, stride, _ in plan:
+    # The first tier a world does not fit in is the last taken from.
+    for positions, bodies, matched in _tiers(choice):
+        tier = _Tier(worlds[positions], bodies, shades[matched], polylines_of, screen)
+        stride = stride_to_fit(tier.points, len(positions) * len(bodies), budget)
+        if screen is not None:
+            stride = tier.finer_stride_on_screen(stride, budget)
         arrays.coarsest_stride = max(arrays.coarsest_stride, stride)
-        for k in positions:
-            present = present_of(worlds[k], bodies)
-            lines = part(worlds[k], present, stride)
-            if len(lines) > budget:
-                full = True
-                break
+        for drawn, present, lines, colours in tier.take(stride, budget):
             budget -= len(lines)
-            if len(lines):
-                taken[matched][0].append(lines)
-                key = (present, len(lines), matched)
-                if key not in colours:
-                    colours[key] = _colours(present, len(lines), shades[matched])
-                taken[matched][1].append(colours[key])
-                arrays.worlds.add(worlds[k])
-                arrays.drawn.append((worlds[k], present, stride))
-                arrays.paths_drawn += len(present)
-        if full:
+            taken[matched][0].append(lines)
+            taken[matched][1].append(colours)
+            arrays.worlds.update(drawn)
+            arrays.drawn.extend(zip(drawn, present, itertools.repeat(stride)))
+            arrays.paths_drawn += sum(map(len, present))
+        if tier.left_out:
+            arrays.complete = False
             break
-    arrays.complete = not (full or tiers_left_out)
     arrays.others = _concatenate(taken[False][0] + taken[True][0], 3)
     arrays.other_colours = _concatenate(taken[False][1] + taken[True][1], 4)
     arrays.worlds_drawn = len(arrays.worlds)
     return arrays
 
 
-def _selected_size(choice, worlds, present_of, polyline):
-    """Vertices of the selected world's full paths (0 without one)."""
-    if choice.selected not in worlds:
-        return 0
-    return len(present_of(choice.selected, choice.bodies)) * path_vertices(polyline(choice.selected).shape[1], 1)
+class _Tier:
+    """The paths of some bodies in worlds taken in order, read in chunks of about what the budget
+    left holds."""
+
+    def __init__(self, worlds, bodies, shades, polylines_of, screen):
+        self.worlds, self.bodies, self.shades = worlds, bodies, shades
+        self.polylines_of, self.screen = polylines_of, screen
+        self.body_array = np.asarray(bodies, np.intp)
+        # A path's points, estimated from the first world's.
+        self.points = polylines_of(worlds[:1].tolist(), [], 1).shape[2]
+        self.left_out = False
+
+    def finer_stride_on_screen(self, stride, budget):
+        """The finest stride down from `stride` at which the tier's paths, thinned on screen, are
+        expected to fit `budget`: vertices counted on a sample of worlds (the first ones, spread over
+        the library) of about SAMPLE_POINTS points, scaled to the tier."""
+        def expected_vertices(s):
+            count = max(1, min(len(self.worlds), SAMPLE_POINTS // max(1, len(self.bodies) * self.points // s)))
+            paths = self.polylines_of(self.worlds[:count].tolist(), list(self.bodies), s)
+            kept = screen_thinning.kept_on_screen(paths, self.screen).sum(axis=-1)
+            return 2 * np.maximum(kept - 1, 0).sum() * len(self.worlds) / count
+
+        if stride == 1 or expected_vertices(stride) > SAMPLE_MARGIN * budget:
+            return stride
+        # Vertices grow as the stride shrinks: find the finest that fits by bisection.
+        fits, too_fine = stride, 0
+        while fits - too_fine > 1:
+            middle = (fits + too_fine) // 2
+            if expected_vertices(middle) <= SAMPLE_MARGIN * budget:
+                fits = middle
+            else:
+                too_fine = middle
+        return fits
+
+    def take(self, stride, budget):
+        """Yield ([world that drew a segment], [its present bodies], line-list vertices, their
+        colours) of chunks of worlds taken in order while they fit `budget`; sets
+        left_out when a world did not fit."""
+        per_world = max(1, len(self.bodies) * path_vertices(self.points, stride))
+        start = 0
+        while start < len(self.worlds):
+            count = min(len(self.worlds) - start, int(budget / per_world * 1.1) + 1)
+            chunk = self.worlds[start:start + count]
+            paths = self.polylines_of(chunk.tolist(), list(self.bodies), stride)
+            finite = np.isfinite(paths[..., 0])
+            keep = finite if self.screen is None else screen_thinning.kept_on_screen(paths, self.screen)
+            lines, path_of = joined_segments(paths, keep)
+            segments = np.bincount(path_of // max(1, len(self.bodies)), minlength=len(chunk))
+            fits = int(np.searchsorted(np.cumsum(2 * segments), budget, side="right"))
+            end = 2 * int(segments[:fits].sum())
+            drew = segments[:fits] > 0
+            present = finite[:fits, :, 0][drew]
+            if present.all():
+                present = [self.bodies] * len(present)
+            else:
+                present = [_present(self.bodies, row) for row in present.tolist()]
+            body_of = self.body_array[path_of[:end // 2] % max(1, len(self.bodies))]
+            yield chunk[:fits][drew].tolist(), present, lines[:end], self.shades.take(np.repeat(body_of, 2), axis=0)
+            budget -= end
+            start += fits
+            if fits < len(chunk):
+                self.left_out = True
+                return
+            # Later chunks are sized by what these worlds took.
+            per_world = max(1.0, end / max(1, fits))
 
 
-def _plan(choice, worlds, budget, polyline):
-    """([(world positions, bodies, matched, stride, worlds expected to fit)], whether tiers are left
-    out) in the order tiers are taken: each thinned to fit what the tiers before it leave (a path's
-    points estimated from the tier's first world); the first tier that does not fit in full is the
-    last. The caller takes worlds while their real size fits."""
-    plan = []
-    tiers = _tiers(choice)
-    for t, (positions, bodies, matched) in enumerate(tiers):
-        points = polyline(worlds[positions[0]]).shape[1]
-        stride = stride_to_fit(points, len(positions) * len(bodies), budget)
-        per_world = len(bodies) * path_vertices(points, stride)
-        fit = len(positions) if per_world == 0 else min(len(positions), budget // per_world)
-        plan.append((positions, bodies, matched, stride, fit))
-        budget -= fit * per_world
-        if fit < len(positions):
-            return plan, t + 1 < len(tiers)
-    return plan, False
+def _present(bodies, mask):
+    """The bodies of `bodies` whose mask entry is true, as a tuple."""
+    return tuple(b for b, here in zip(bodies, mask) if here)
 
 
 def selected_band_colours(count):
@@ -264,13 +316,6 @@ def selected_band_colours(count):
 
 def _rgba(choice):
     return np.array([tuple(c[:3]) + (1.0,) for c in choice.body_colours], np.float32).reshape(-1, 4)
-
-
-def _colours(bodies, vertex_count, table):
-    """float32 (vertex_count, 4): each body's row of `table` over its equal share of the vertices."""
-    if not bodies:
-        return np.zeros((0, 4), np.float32)
-    return np.repeat(table[np.asarray(bodies, dtype=np.intp)], vertex_count // len(bodies), axis=0)
 
 
 def _concatenate(parts, width):

@@ -11,8 +11,11 @@ only in the worlds it exists in (bodies can be added to and removed from worlds)
 Batches are built off the draw callback and reused between redraws: a timer compares their inputs
 (the library's data and match state, LibraryView.version; the chosen and selected bodies; the
 selected world; the budget) with those of the batches every POLL_S and, when they differ, rebuilds
-them and redraws the 3D views; the draw callback only draws. The thinned line segments of the last
-build are reused by the next.
+them and redraws the 3D views; the draw callback only draws. The paths are thinned in screen space
+for the view they are drawn in (core.screen_thinning): the draw callback notes each 3D view's
+matrix and size, and once the view has stood still for a poll the batches are rebuilt for it, so
+orbiting does not rebuild them on every frame. With more than one 3D view showing the paths they
+are not thinned on screen (one view's thinning could be too coarse for another).
 """
 import traceback
 
@@ -22,7 +25,7 @@ import numpy as np
 from gpu_extras.batch import batch_for_shader
 
 from .. import compat
-from ..core import palette, path_budget
+from ..core import palette, path_budget, screen_thinning
 from ..core.session import SESSION
 from .overlay import ViewportOverlay
 
@@ -63,8 +66,10 @@ class PathOverlay(ViewportOverlay):
         self.rebuilds = 0        # how often the arrays were built (tests count them)
         self._key = None
         self._batches = []       # (batch, width factor, drawn on top)
-        self._key_view = None    # id of the LibraryView the arrays were built from
         self._shader = None
+        self._views = {}          # region pointer -> ScreenView it was last drawn with
+        self._seen_view = None    # the view the last poll saw (rebuilt for once it stands still)
+        self._settled_view = None
         # One bound method for the timer: Blender finds a registered timer by the function object.
         self._timer = self._poll
 
@@ -99,7 +104,16 @@ class PathOverlay(ViewportOverlay):
             return None
         settings = context.scene.mwb
         return (id(view), view.version, chosen_bodies(context, view), selected_bodies(context, view),
-                settings.selected_world, settings.family_only, self.vertex_budget)
+                settings.selected_world, settings.family_only, self.vertex_budget, self._screen_view())
+
+    def _screen_view(self):
+        """The ScreenView to thin paths for: the only 3D view drawing them, once it stood still for a
+        poll (None with none or several)."""
+        seen = next(iter(self._views.values())) if len(self._views) == 1 else None
+        if seen == self._seen_view:
+            self._settled_view = seen
+        self._seen_view = seen
+        return self._settled_view
 
     def update(self, context):
         """Rebuild the arrays and batches if their inputs changed; True if they were rebuilt."""
@@ -111,12 +125,9 @@ class PathOverlay(ViewportOverlay):
             self.arrays, self._batches = None, []
             return True
         view = SESSION.view
-        _, _, bodies, preferred, selected, family_only, budget = key
-        # Only the last build's segments are kept (about the budget's worth).
-        cache = self.arrays.segments if self.arrays is not None and self._key_view == id(view) else None
+        _, _, bodies, preferred, selected, family_only, budget, screen = key
         self.arrays = path_budget.build_path_arrays(self._choice(view, bodies, preferred, selected, family_only),
-                                                    view.library.polyline, view.present_bodies, budget, cache)
-        self._key_view = id(view)
+                                                    view.library.polylines, budget, screen)
         self.rebuilds += 1
         self._batches = [] if bpy.app.background else self._make_batches(self.arrays)
         return True
@@ -169,6 +180,9 @@ class PathOverlay(ViewportOverlay):
             return
         width = context.scene.mwb.path_width
         region = context.region
+        matrix = context.region_data.perspective_matrix
+        self._views[region.as_pointer()] = screen_thinning.ScreenView(
+            tuple(tuple(row) for row in matrix), region.width, region.height)
         blend, depth, line_width = gpu.state.blend_get(), gpu.state.depth_test_get(), gpu.state.line_width_get()
         gpu.state.blend_set("ALPHA")
         try:
