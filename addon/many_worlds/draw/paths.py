@@ -56,6 +56,14 @@ def tag_redraw_views():
                 area.tag_redraw()
 
 
+def open_view_regions():
+    """Pointers of the main regions of every open 3D view."""
+    wm = bpy.context.window_manager
+    return {region.as_pointer()
+            for window in (wm.windows if wm else []) for area in window.screen.areas if area.type == "VIEW_3D"
+            for region in area.regions if region.type == "WINDOW"}
+
+
 class PathOverlay(ViewportOverlay):
     draw_phase = "POST_VIEW"
 
@@ -109,6 +117,10 @@ class PathOverlay(ViewportOverlay):
     def _screen_view(self):
         """The ScreenView to thin paths for: the only 3D view drawing them, once it stood still for a
         poll (None with none or several)."""
+        # A view closed since it last drew no longer counts.
+        open_regions = open_view_regions()
+        for pointer in [p for p in self._views if p not in open_regions]:
+            del self._views[pointer]
         seen = next(iter(self._views.values())) if len(self._views) == 1 else None
         if seen == self._seen_view:
             self._settled_view = seen
