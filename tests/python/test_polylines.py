@@ -36,7 +36,7 @@ def library(native, engine, tmp_path_factory):
         result = run_engine(engine, "refine", "--library", str(out), *args, "--count", "1")
         assert result.returncode == 0, result.stderr
     lib = native.Library(str(out))
-    assert lib.world_indices == [0, 1, 2, 3, 4]
+    assert sorted(lib.world_indices) == [0, 1, 2, 3, 4]  # file order: as the threads finished
     return lib
 
 
