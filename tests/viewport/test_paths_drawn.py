@@ -76,19 +76,27 @@ def steps():
     area.tag_redraw()
     yield
     results["paths_on"] = counts(screenshot("paths_on.png"))
-    # Once the view has stood still for a poll, the paths are rebuilt thinned for it.
-    for _ in range(40):
-        if paths.OVERLAY.arrays is not None and paths.OVERLAY.arrays.screen is not None:
+    # Once the view has stood still for a poll, the paths are rebuilt thinned for it (for the view
+    # as last drawn: under load the region may still change size as the window lays out).
+    def thinned_for_the_view():
+        drawn = list(paths.OVERLAY._views.values())
+        arrays = paths.OVERLAY.arrays
+        return arrays is not None and arrays.screen is not None and drawn == [arrays.screen]
+
+    for _ in range(60):
+        if thinned_for_the_view():
             break
         area.tag_redraw()
         yield
     results["thinned_on_screen"] = paths.OVERLAY.arrays.screen is not None
     # From then on, plain redraws of the still view reuse the batches.
-    rebuilds = paths.OVERLAY.rebuilds
+    rebuilds, key_before = paths.OVERLAY.rebuilds, paths.OVERLAY._key
     for _ in range(3):
         area.tag_redraw()
         yield
     results["rebuilds_on_redraw"] = paths.OVERLAY.rebuilds - rebuilds
+    if results["rebuilds_on_redraw"]:  # which input changed, for the failure message
+        results["inputs_changed"] = [str(a) + " -> " + str(b) for a, b in zip(key_before, paths.OVERLAY._key) if a != b]
     # A budget of an eighth of the vertices: fewer paths drawn, and the panel's line. (With a
     # quarter, thinning keeps most paths and their pixels within a few percent of the bound.)
     paths.OVERLAY.vertex_budget = paths.OVERLAY.arrays.vertex_count // 8
