@@ -5,13 +5,12 @@
 // into garbage silently.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
 
+#include "TestFolder.h"
 #include "codec/CodecError.h"
 #include "library/ByteIO.h"
 #include "library/FileBytes.h"
@@ -70,15 +69,7 @@ void write_all(const std::string& file, const std::vector<uint8_t>& bytes) {
 
 class JointedMotion : public ::testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("mwb_jointed_test_" + std::to_string(::getpid()) + "_" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
-    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+    std::string path(const std::string& name) const { return folder_.path(name); }
 
     // Samples worlds [0, count) of the bench chain into `file` on `threads` threads.
     static std::map<uint64_t, WorldResult> sample_chain(const std::string& file, uint64_t count, int threads) {
@@ -94,7 +85,7 @@ protected:
         return worlds;
     }
 
-    fs::path dir_;
+    fixtures::TestFolder folder_{"mwb_jointed_test"};
 };
 
 TEST_F(JointedMotion, ASwingingChainDecodesWithinTheBoundsAndGivesTheSameBytesOnAnyThreadCount) {

@@ -1,7 +1,5 @@
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -9,6 +7,7 @@
 #include <map>
 
 #include "SceneFixtures.h"
+#include "TestFolder.h"
 #include "common/BuildInfo.h"
 #include "library/ByteIO.h"
 #include "library/LibraryFormat.h"
@@ -29,15 +28,7 @@ namespace fs = std::filesystem;
 
 class Library : public ::testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("mwb_library_test_" + std::to_string(::getpid()) + "_" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
-    }
-    void TearDown() override { fs::remove_all(dir_); }
-
-    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+    std::string path(const std::string& name) const { return folder_.path(name); }
 
     static RunHeader header_for(const Scene& scene, uint64_t base_seed = 9, const std::string& build = "") {
         return RunHeader{scene_to_json(scene), SimulationParameters{}, CodecBounds{}, base_seed, build};
@@ -66,7 +57,7 @@ protected:
         out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
     }
 
-    fs::path dir_;
+    fixtures::TestFolder folder_{"mwb_library_test"};
 };
 
 TEST_F(Library, DecodedMotionStaysWithinTheCodecBoundsForEveryBodyAndFrame) {

@@ -5,9 +5,8 @@
 #include <filesystem>
 #include <map>
 
-#include <unistd.h>
-
 #include "SceneFixtures.h"
+#include "TestFolder.h"
 #include "WorldCompare.h"
 #include "codec/CodecError.h"
 #include "common/BuildInfo.h"
@@ -288,16 +287,8 @@ TEST(SceneChanges, UpdatingAnObjectMovesItAndWakesWhatItLeft) {
 
 class SceneChangeLibrary : public ::testing::Test {
 protected:
-    void SetUp() override {
-        dir_ = std::filesystem::temp_directory_path() /
-               ("mwb_scene_change_" + std::to_string(::getpid()) + "_" +
-                ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        std::filesystem::remove_all(dir_);
-        std::filesystem::create_directories(dir_);
-    }
-    void TearDown() override { std::filesystem::remove_all(dir_); }
-    std::string path(const std::string& name) const { return (dir_ / name).string(); }
-    std::filesystem::path dir_;
+    std::string path(const std::string& name) const { return folder_.path(name); }
+    fixtures::TestFolder folder_{"mwb_scene_change"};
 };
 
 // A library sampled with the stack, then a world gains the ball and another loses Lower.

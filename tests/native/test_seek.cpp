@@ -1,12 +1,12 @@
 // Goal files and the goal search on a small library: bad goals are refused in one line, corrupted
 // goal files never crash, the search is the same on 1 and 2 threads, and cancelling keeps worlds.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <map>
 
 #include "SceneFixtures.h"
+#include "TestFolder.h"
 #include "common/BuildInfo.h"
 #include "library/LibraryReader.h"
 #include "library/LibraryWriter.h"
@@ -97,19 +97,13 @@ TEST(GoalJson, CorruptedGoalFilesAreRefusedCleanly) {
 class Seek : public ::testing::Test {
 protected:
     void SetUp() override {
-        dir_ = fs::temp_directory_path() / ("mwb_seek_test_" + std::to_string(::getpid()) + "_" +
-                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-        fs::remove_all(dir_);
-        fs::create_directories(dir_);
         scene_ = fixtures::pile(6, 96);
         const RunHeader header{scene_to_json(scene_), SimulationParameters{}, CodecBounds{}, 3, engine_build()};
         const CompiledScene compiled(scene_, header.parameters);
         LibraryWriter writer(path("start.mwb"), header);
         sample_worlds(compiled, header.base_seed, 0, 6, 2, [&](WorldResult&& w) { writer.append(w); });
     }
-    void TearDown() override { fs::remove_all(dir_); }
-
-    std::string path(const std::string& name) const { return (dir_ / name).string(); }
+    std::string path(const std::string& name) const { return folder_.path(name); }
     std::string copy_of_start(const std::string& name) const {
         fs::copy_file(path("start.mwb"), path(name));
         return path(name);
@@ -138,7 +132,7 @@ protected:
         return out;
     }
 
-    fs::path dir_;
+    fixtures::TestFolder folder_{"mwb_seek_test"};
     Scene scene_;
 };
 
