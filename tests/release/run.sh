@@ -1,12 +1,14 @@
 #!/bin/sh
 # The release, as a user gets it, on systems without our build tools or ODE:
 #   1. build the release binaries in the Debian 11 chroot (native/release/build_release.sh) and
-#      check them: no glibc symbol newer than 2.31, no library outside glibc but those beside them;
+#      check them, as built and as shipped in both zips: no glibc symbol newer than 2.31, no
+#      library outside glibc but those beside them;
 #   2. in the Debian 11 chroot (the oldest glibc we promise): the engine samples and reports
 #      (tests/release/cross_machine.sh compares the worlds across machines);
 #   3. in the Debian 13 chroot with ODE and libccd removed: install the extension zip with
 #      `blender -c extension install-file`, then `blender -c many_worlds sample FILE.blend`,
-#      `info` and `bake` (Debian's Blender itself depends on libgomp1, so that one stays);
+#      `info` and `bake` (Debian's Blender itself depends on libgomp1, so that one stays); the
+#      installed extension's Slurm plan runs its tasks and merge with the release engine;
 #   4. the add-on zip in Debian 12's Blender 3.4 with a clean user folder: Install, enable, sample.
 # Needs root (debootstrap, chroot, mount); otherwise one "skipped: <reason>" line and exit
 # $MWB_SKIP_STATUS (0 by default; CTest sets 77, its skip code).
@@ -34,9 +36,11 @@ fail() {
 # Work folders live in the checkout, which every chroot sees at the same path.
 mkdir -p "$ROOT/build-release"
 WORK=$(mktemp -d "$ROOT/build-release/test.XXXXXX")
+# Only the chroot this run mounted, under its lock, is unmounted: another test may be using the
+# other one.
+mounted=""
 cleanup() {
-    unmount_checkout "$BULLSEYE" "$ROOT"
-    unmount_checkout "$TRIXIE" "$ROOT"
+    [ -z "$mounted" ] || unmount_checkout "$mounted" "$ROOT"
     [ -n "${MWB_KEEP_WORK:-}" ] || rm -rf "$WORK"
 }
 trap cleanup EXIT
@@ -48,10 +52,26 @@ python3 "$ROOT/tests/release/check_binaries.py" "$DIST/bin/mwb-engine" "$DIST"/m
     fail "a shipped binary needs more than glibc 2.31"
 ext_zip=$(python3 "$ROOT/tests/blender4/build_extension.py" --binaries "$DIST" --out "$ZIPS" 2>/dev/null)
 addon_zip=$(python3 "$ROOT/tests/blender4/build_extension.py" --binaries "$DIST" --out "$ZIPS" --legacy)
+# The binaries as shipped: the engine and the wheels' modules in the extension zip, the engine and
+# the modules in the add-on zip.
+mkdir -p "$WORK/shipped/ext" "$WORK/shipped/addon"
+python3 -m zipfile -e "$ext_zip" "$WORK/shipped/ext"
+python3 -m zipfile -e "$addon_zip" "$WORK/shipped/addon"
+for wheel in "$WORK"/shipped/ext/wheels/*.whl; do
+    python3 -m zipfile -e "$wheel" "$WORK/shipped/$(basename "$wheel" .whl)"
+done
+shipped=$(find "$WORK/shipped" -type f \( -name mwb-engine -o -name '*.so' -o -name '*.so.*' \) | sort)
+[ "$(echo "$shipped" | wc -l)" -eq 9 ] || { echo "$shipped"; fail "the zips should hold 9 binaries: 2 engines, 4 modules and 3 copies of libgomp"; }
+python3 "$ROOT/tests/release/check_binaries.py" $shipped > "$WORK/shipped.txt" || {
+    cat "$WORK/shipped.txt"
+    fail "a binary in the zips needs more than glibc 2.31"
+}
+echo "release: $(echo "$shipped" | wc -l) binaries in the zips need nothing newer than GLIBC_2.31 and nothing outside glibc but libgomp.so.1 beside them"
 
 echo "== release: 2. the engine in Debian 11"
 exec 9>"$BULLSEYE.lock"
 flock 9
+mounted=$BULLSEYE
 mount_checkout "$BULLSEYE" "$ROOT"
 in_chroot "$BULLSEYE" sh -c "ldd --version | head -n 1"
 in_chroot "$BULLSEYE" "$DIST/bin/mwb-engine" sample --scene "$ROOT/tests/scenes/quickstart.json" \
@@ -59,14 +79,19 @@ in_chroot "$BULLSEYE" "$DIST/bin/mwb-engine" sample --scene "$ROOT/tests/scenes/
 in_chroot "$BULLSEYE" "$DIST/bin/mwb-engine" info "$WORK/bullseye.mwb" > "$WORK/bullseye.txt"
 grep -q "bullseye.mwb: 16 worlds" "$WORK/bullseye.txt" || { cat "$WORK/bullseye.txt"; fail "the engine in Debian 11 did not store 16 worlds"; }
 unmount_checkout "$BULLSEYE" "$ROOT"
+mounted=""
 flock -u 9
 
 echo "== release: 3. the extension in Debian 13 without ODE"
 exec 8>"$TRIXIE.lock"
 flock 8
-ensure_chroot "$TRIXIE" trixie "blender"
+# Debian's Blender, unlike Blender's own builds, leaves numpy to python3-numpy, which it does not
+# depend on: an animator on Debian installs both (README, Install). Named here, so a fresh chroot
+# does not rely on the blender4 test having installed it.
+ensure_chroot "$TRIXIE" trixie "blender python3-numpy"
 in_chroot "$TRIXIE" dpkg --purge --force-depends libode-dev libode8t64 libccd-dev libccd2 > /dev/null 2>&1 || true
 in_chroot "$TRIXIE" sh -c "ldconfig -p | grep -E 'libode|libccd'" && fail "ODE or libccd is still installed in $TRIXIE"
+mounted=$TRIXIE
 mount_checkout "$TRIXIE" "$ROOT"
 cp "$ROOT/blend_examples/quickstart/quickstart.blend" "$WORK/quickstart.blend"
 in_chroot "$TRIXIE" env BLENDER_USER_RESOURCES="$WORK/user" TMPDIR="$WORK" sh -c "
@@ -77,14 +102,40 @@ in_chroot "$TRIXIE" env BLENDER_USER_RESOURCES="$WORK/user" TMPDIR="$WORK" sh -c
     blender -b -c many_worlds info L.mwb > info.txt 2>&1
     blender -b -c many_worlds bake L.mwb --blend quickstart.blend --world 3 --out baked.blend > bake.log 2>&1
     blender -b baked.blend --python-exit-code 1 --python '$ROOT/tests/release/check_baked.py' > check.log 2>&1
+    # The installed extension's Slurm plan, its tasks run as Slurm runs them (one per chunk), then
+    # its merge: every task calls the extension's cli.py and so the engine beside it.
+    ext=\$(pwd)/user/extensions/user_default
+    blender -b --factory-startup --python-exit-code 1 --python-expr \"
+import sys
+sys.path.insert(0, '\$ext')
+from many_worlds.farm import slurm
+array, merge, tasks = slurm.job_scripts('$WORK/quickstart.blend', 0, 8, 4, '$WORK/farm')
+assert tasks == 2 and '\$ext/many_worlds/cli.py' in array and '\$ext/many_worlds/cli.py' in merge
+open('farm_array.sh', 'w').write(array)
+open('farm_merge.sh', 'w').write(merge)
+\" > farm_plan.log 2>&1
+    mkdir -p farm
+    SLURM_ARRAY_TASK_ID=0 sh farm_array.sh > farm_task0.log 2>&1
+    SLURM_ARRAY_TASK_ID=1 sh farm_array.sh > farm_task1.log 2>&1
+    sh farm_merge.sh > farm_merge.log 2>&1
+    blender -b -c many_worlds info farm/merged.mwb > farm_info.txt 2>&1
 " || {
     tail -n 20 "$WORK"/*.log "$WORK/info.txt" 2>/dev/null
-    fail "install, sample, info or bake in Debian 13"
+    fail "install, sample, info, bake or the Slurm plan in Debian 13"
 }
 grep -q "L.mwb: 8 worlds" "$WORK/info.txt" || { cat "$WORK/info.txt"; fail "info does not report the 8 sampled worlds"; }
 grep "L.mwb: 8 worlds" "$WORK/info.txt"
 grep "^release:" "$WORK/check.log"
+grep -q "merged.mwb: 8 worlds" "$WORK/farm_info.txt" || { cat "$WORK/farm_info.txt"; fail "the Slurm plan's tasks and merge did not make 8 worlds"; }
+release_build=$(grep "made by" "$WORK/bullseye.txt")
+[ "$(grep "made by" "$WORK/farm_info.txt")" = "$release_build" ] || {
+    echo "release engine:$release_build"
+    cat "$WORK/farm_info.txt"
+    fail "the Slurm plan's shards were not made by the release engine"
+}
+echo "release: the installed extension's Slurm plan sampled 2 chunks and merged them with the release engine"
 unmount_checkout "$TRIXIE" "$ROOT"
+mounted=""
 flock -u 8
 
 echo "== release: 4. the add-on zip in Blender 3.4"
