@@ -22,16 +22,25 @@ fail() {
     echo "cross-machine: FAILED: $*"
     exit 1
 }
-sh "$ROOT/native/release/build_release.sh" > /dev/null
+[ -x "$DEV_ENGINE" ] || {
+    echo "cross-machine: $DEV_ENGINE is missing: build on the host first (tests/setup.sh)"
+    exit 1
+}
 mkdir -p "$ROOT/build-release"
 WORK=$(mktemp -d "$ROOT/build-release/cross.XXXXXX")
+# Only the chroot this run mounted, under its lock, is unmounted: another test may be using the
+# other one.
+mounted=""
 cleanup() {
-    unmount_checkout "$BULLSEYE" "$ROOT"
-    unmount_checkout "$TRIXIE" "$ROOT"
+    [ -z "$mounted" ] || unmount_checkout "$mounted" "$ROOT"
     rm -rf "$WORK"
 }
 trap cleanup EXIT
 trap 'exit 130' INT TERM
+sh "$ROOT/native/release/build_release.sh" > "$WORK/build_release.log" 2>&1 || {
+    cat "$WORK/build_release.log"
+    fail "the release build"
+}
 
 # Two threads: worlds are stored in the order they finish, so compare after sorting by world
 # (merge writes worlds in index order).
@@ -45,15 +54,18 @@ sample() {  # NAME [CHROOT]
     "$ENGINE" merge "$out" "$out.unsorted" > /dev/null
 }
 sample debian12
-for chroot_dir in "$BULLSEYE" "$TRIXIE"; do
-    name=$(basename "$chroot_dir")
+for name in bullseye trixie; do
+    chroot_dir=$BULLSEYE
+    [ "$name" = bullseye ] || chroot_dir=$TRIXIE
     exec 9>"$chroot_dir.lock"
     flock 9
     ensure_chroot "$chroot_dir" "$name" ""
+    mounted=$chroot_dir
     mount_checkout "$chroot_dir" "$ROOT"
     in_chroot "$chroot_dir" sh -c "echo \"cross-machine: $name, \$(ldd --version | head -n 1)\""
     sample "$name" "$chroot_dir"
     unmount_checkout "$chroot_dir" "$ROOT"
+    mounted=""
     flock -u 9
     cmp "$WORK/debian12.mwb" "$WORK/$name.mwb" || fail "the library sampled in $name differs from the host's"
     echo "cross-machine: $name's library is byte for byte the host's ($(wc -c < "$WORK/$name.mwb") bytes, 24 worlds)"
