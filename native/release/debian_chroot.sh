@@ -37,8 +37,9 @@ ensure_chroot() {
             return 1
         fi
         rm -rf "$_partial"
+        # The machine's own Debian mirror; without one, debootstrap's default.
         _mirror=$(debian_mirror)
-        debootstrap --variant=minbase "$_suite" "$_partial" "${_mirror:-http://deb.debian.org/debian}" \
+        debootstrap --variant=minbase "$_suite" "$_partial" ${_mirror:+"$_mirror"} \
             > "$_dir.debootstrap.log" 2>&1 || {
             echo "debootstrap $_suite failed (see $_dir.debootstrap.log)" >&2
             return 1

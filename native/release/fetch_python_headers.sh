@@ -15,9 +15,13 @@ APT=$DIR/apt
 private_apt_dir "$APT"
 mkdir -p "$DIR/debs" "$DIR/unpacked"
 mirror=$(debian_mirror)
+[ -n "$mirror" ] || {
+    echo "fetch_python_headers: no Debian mirror in this machine's apt sources (/etc/apt)" >&2
+    exit 1
+}
 cat > "$APT/sources/debian.sources" <<EOF
 Types: deb
-URIs: ${mirror:-http://deb.debian.org/debian}
+URIs: $mirror
 Suites: bookworm trixie
 Components: main
 Signed-By: /usr/share/keyrings/debian-archive-keyring.gpg
