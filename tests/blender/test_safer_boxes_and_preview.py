@@ -147,3 +147,18 @@ def test_the_variation_panel_reads_ranges_around_the_objects_own_place_during_pr
     assert panels.around_text(scene, box, "location") == own
     bpy.ops.mwb.end_preview()
     assert panels.around_text(scene, box, "location") == own
+
+
+def test_the_variation_panel_reads_zero_without_a_sign(sampled):
+    """A rotation or place a hair below zero (as a rotation matrix gives back) reads 0, not -0."""
+    from many_worlds.ui import panels
+    scene = bpy.context.scene
+    box = bpy.data.objects["Box0"]
+    box.location = (-1e-7, 0.5, -0.001)
+    box.rotation_euler = (-1e-7, 0.0, -0.2 / panels.props.DEG_PER_RAD)
+    bpy.context.view_layer.update()
+    assert panels.around_text(scene, box, "rotation") == "Around 0°, 0°, 0°"
+    assert panels.around_text(scene, box, "location").startswith("Around 0 m, "), \
+        panels.around_text(scene, box, "location")
+    scene.unit_settings.system = "NONE"
+    assert panels.around_text(scene, box, "location") == "Around 0.00, 0.50, 0.00"

@@ -322,13 +322,15 @@ def around_text(scene, ob, quantity):
     units = scene.unit_settings
     matrix = preview.own_matrix(scene, ob)
     if quantity == "location":
+        # A coordinate a hair below zero reads 0, not -0 (adding 0.0 drops the sign of -0.0).
         if units.system == "NONE":
-            return "Around " + ", ".join(f"{v:.2f}" for v in matrix.translation)
-        values = [bpy.utils.units.to_string(units.system, "LENGTH", v * units.scale_length, precision=2)
-                  for v in matrix.translation]
+            return "Around " + ", ".join(f"{round(v, 2) + 0.0:.2f}" for v in matrix.translation)
+        metres = [v * units.scale_length for v in matrix.translation]
+        values = [bpy.utils.units.to_string(units.system, "LENGTH", v if abs(v) >= 1e-6 else 0.0, precision=2)
+                  for v in metres]
         return "Around " + ", ".join(values)
     if quantity == "rotation":
-        return "Around " + ", ".join(f"{v * props.DEG_PER_RAD:.0f}°" for v in matrix.to_euler())
+        return "Around " + ", ".join(f"{round(v * props.DEG_PER_RAD)}°" for v in matrix.to_euler())
     if quantity == "velocity":
         return "Around rest (m/s)"
     return "Around rest (°/s)"
