@@ -21,7 +21,6 @@ import time
 
 import bpy
 import numpy as np
-from mathutils import Vector
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
@@ -30,22 +29,11 @@ from many_worlds.core import contact_sheet, palette  # noqa: E402
 from many_worlds.core.session import SESSION  # noqa: E402
 from many_worlds.thumbnails import THUMBNAILS  # noqa: E402
 from many_worlds.ui import filmstrip  # noqa: E402
-from viewport_helpers import colour_mask, run_steps, viewport  # noqa: E402
+from viewport_helpers import add_camera, colour_mask, no_tooltips, run_steps, viewport  # noqa: E402
 
 OUT_DIR = sys.argv[sys.argv.index("--") + 1]
 TICK_S = 0.3
 RESULTS = {}
-
-
-def add_camera(scene):
-    """A scene camera looking down at the boxes from the front right."""
-    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-    scene.collection.objects.link(camera)
-    camera.location = (2.0, -2.4, 1.7)
-    camera.rotation_euler = (Vector((0.6, 0.0, 0.5)) - camera.location).to_track_quat("-Z", "Y").to_euler()
-    scene.camera = camera
-    scene.render.resolution_x, scene.render.resolution_y = 1280, 720
-    return camera
 
 
 def region_pixels(area, region_type):
@@ -141,6 +129,7 @@ def steps():
     view = SESSION.view
     assert view is not None, "the library was not reopened on load"
     area.spaces.active.overlay.show_floor = False
+    no_tooltips()
     add_camera(scene)
     for ob in bpy.data.objects:
         ob.select_set(False)
@@ -154,6 +143,11 @@ def steps():
     made = THUMBNAILS.made
     RESULTS["thumbnails_made"] = made
     RESULTS["thumbnail_ms"] = round(1000 * THUMBNAILS.seconds / max(1, made), 1)
+    # The sidebar a page down, where the ranking's rows (and later the filmstrip) are in view.
+    sidebar = next(r for r in area.regions if r.type == "UI")
+    with bpy.context.temp_override(window=window, area=area, region=sidebar):
+        bpy.ops.view2d.scroll_down(page=True)
+    yield
     region_pixels(area, "UI")
     window_screenshot("thumbnails.png")
     # Drawing the list again with every thumbnail made asks for none and makes none; with none
@@ -216,7 +210,6 @@ def steps():
     window.event_simulate(type="ESC", value="RELEASE", x=region.x + 10, y=region.y + 10)
     yield
     # --- the legend's swatches in the sidebar -----------------------------------------------------
-    sidebar = next(r for r in area.regions if r.type == "UI")
     found = {}
     for _ in range(6):
         pixels = region_pixels(area, "UI")

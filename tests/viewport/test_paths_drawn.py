@@ -4,13 +4,15 @@ Run by tests/viewport/run.sh:
   xvfb-run -a -s "-screen 0 1600x1000x24" blender --factory-startup --addons many_worlds paths.blend \
       --python tests/viewport/test_paths_drawn.py -- OUT_DIR
 The add-on reopens the library on load (load_post). Screenshots of the window are taken with the
-paths on, with a world selected, with the selected world's paths drawn alone, with the paths off
-and with no world selected; the 3D viewport's pixels must show each box's path colour (and the
-selected world's colour) only while drawing is on. The selected world must show (nearly) as many pixels
-among the other paths as alone: it is drawn on top. With a budget of an eighth of the vertices, fewer
-paths are drawn and the panel's line names the subset; plain redraws do not rebuild the batches, and
-the paths drawn are thinned for the view (core.screen_thinning). The label naming the selected world (in the
-selected world's colour, bottom-left) must be drawn there only while a world is selected.
+paths on, with a world selected, behind a wall and with the wall hidden, with the selected
+world's paths drawn alone, with the paths off and with no world selected; the 3D viewport's pixels
+must show each box's path colour (and the selected world's colour) only while drawing is on. The
+selected world must show (nearly) as many pixels among the other paths as alone, and behind a wall
+as with the wall hidden: it is drawn on top. With a budget of an eighth of the
+vertices, fewer paths are drawn and the panel's line names the subset; plain redraws do not
+rebuild the batches, and the paths drawn are thinned for the view (core.screen_thinning). The
+label naming the selected world (in the selected world's colour, bottom-left) must be drawn there
+only while a world is selected.
 Exit code 0 = pass.
 """
 import json
@@ -19,6 +21,7 @@ import sys
 
 import bpy
 import numpy as np
+from mathutils import Vector
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
@@ -49,13 +52,29 @@ def label_corner(rgb):
 
 def counts(rgb):
     """Pixels of each object's colour (Box0, Box1, Box2: the first three of the palette; matching
-    is Box0's), of the selected world's colour outside the label's corner (its paths) and inside
-    it (the label)."""
+    is Box0's), of anything drawn outside the label's corner, of the selected world's colour
+    outside the corner (its paths) and inside it (the label)."""
     corner = label_corner(rgb)
     selected = colour_mask(rgb, paths.SELECTED_COLOR)
     objects = [int(colour_mask(rgb, palette.PALETTE[k]).sum()) for k in range(4)]
-    return {"matching": objects[0], "objects": objects,
+    lit = rgb.max(axis=-1) > 0.05
+    return {"matching": objects[0], "objects": objects, "lit": int((lit & ~corner).sum()),
             "selected": int((selected & ~corner).sum()), "label": int((selected & corner).sum())}
+
+
+def add_wall(r3d):
+    """A cube halfway between the view's eye and its centre, wide enough to cover every path."""
+    eye = r3d.view_matrix.inverted().translation
+    centre = Vector(r3d.view_location)
+    mesh = bpy.data.meshes.new("Wall")
+    corners = [(x, y, z) for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)]
+    faces = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    mesh.from_pydata(corners, [], faces)
+    wall = bpy.data.objects.new("Wall", mesh)
+    bpy.context.scene.collection.objects.link(wall)
+    wall.location = centre.lerp(eye, 0.5)
+    wall.scale = (1.2, 1.2, 1.2)
+    return wall
 
 
 def steps():
@@ -110,6 +129,17 @@ def steps():
     area.tag_redraw()
     yield
     results["world_selected"] = counts(screenshot("world_selected.png"))
+    # A wall between the eye and every path hides the depth-tested ones: the selected world's paths
+    # show as many pixels as with the wall hidden.
+    wall = add_wall(r3d)
+    area.tag_redraw()
+    yield
+    results["behind_wall"] = counts(screenshot("behind_wall.png"))
+    wall.hide_set(True)
+    area.tag_redraw()
+    yield
+    results["wall_hidden"] = counts(screenshot("wall_hidden.png"))
+    bpy.data.objects.remove(wall)
     # The selected world's batch alone (the cache keeps it until its inputs change).
     paths.OVERLAY._batches = [b for b in paths.OVERLAY._batches if b[2]]
     area.tag_redraw()
@@ -152,6 +182,10 @@ def steps():
     assert results["world_selected"]["selected"] > 100, results
     # Neither the other paths nor the scene hide the selected world: it shows as among none.
     assert results["world_selected"]["selected"] > 0.9 * results["selected_alone"]["selected"], results
+    # Nor does the scene's geometry: a wall hides the other paths, not the selected world's.
+    under, through = results["behind_wall"], results["wall_hidden"]
+    assert under["lit"] < through["lit"] - 2000, results
+    assert through["selected"] > 100 and under["selected"] > 0.9 * through["selected"], results
     # The others are dimmed while a world is selected: few pixels keep the full matching colour.
     assert results["world_selected"]["matching"] < 0.5 * results["paths_on"]["matching"], results
     budget_objects, all_objects = sum(results["budget"]["objects"]), sum(results["paths_on"]["objects"])

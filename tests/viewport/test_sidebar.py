@@ -3,6 +3,7 @@
 Run by `tests/viewport/run.sh test_sidebar.py` (Blender started with --enable-event-simulate, the
 fixture of test_paths_drawn: a ground and three boxes, 24 sampled worlds). The sidebar is opened
 at its default width on the Many Worlds tab and the Physics properties show the variation panel.
+The scene gets a camera, so the ranking's rows show thumbnails and the previewed world its filmstrip.
 For each state a new user meets (library just opened with a passive object selected; its path
 index still filling; boxes drawn and a world previewed; an object moved during the preview; the collapsed subpanels opened and the
 variation ranges as min/max), every panel of the add-on is drawn through a recording layout
@@ -19,6 +20,7 @@ Exit code 0 = pass.
 import contextlib
 import json
 import os
+import shutil
 import sys
 import threading
 import time
@@ -32,10 +34,11 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from many_worlds.core.session import SESSION  # noqa: E402
 from many_worlds.core import library_query, path_budget  # noqa: E402
 from many_worlds.operators import browsing  # noqa: E402
+from many_worlds.thumbnails import THUMBNAILS  # noqa: E402
 from many_worlds.draw import paths as path_overlay  # noqa: E402
 from many_worlds.ui import lists, panels  # noqa: E402
 import label_fit  # noqa: E402
-from viewport_helpers import run_steps, viewport  # noqa: E402
+from viewport_helpers import add_camera, no_tooltips, run_steps, viewport  # noqa: E402
 
 OUT_DIR = sys.argv[sys.argv.index("--") + 1]
 TICK_S = 0.3
@@ -258,14 +261,25 @@ def show_many_worlds_tab(window, area):
 
 
 def scroll(window, area, region_type="WINDOW", down=True, steps=30):
-    """Scroll a region of an editor to its end (a generator): the variation panel at the end of
-    the Rigid Body settings, or the lower panels of the sidebar."""
+    """Scroll a region of an editor towards its end (a generator), a mouse wheel's step at a time:
+    the variation panel at the end of the Rigid Body settings, or the lower panels of the sidebar.
+    The region's own scroll operator, which the wheel runs, so that a list under the mouse does
+    not take the steps instead."""
     region = next(r for r in area.regions if r.type == region_type)
-    x, y = region.x + region.width // 3, region.y + region.height // 2
-    window.event_simulate(type="MOUSEMOVE", value="NOTHING", x=x, y=y)
-    for _ in range(steps):
-        window.event_simulate(type="WHEELDOWNMOUSE" if down else "WHEELUPMOUSE", value="PRESS", x=x, y=y)
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        for _ in range(steps):
+            (bpy.ops.view2d.scroll_down if down else bpy.ops.view2d.scroll_up)()
     yield
+
+
+def thumbnails_made(timeout_s=60):
+    """Wait until the thumbnails the ranking asked for are made (a generator), then redraw."""
+    deadline = time.monotonic() + timeout_s
+    redraw_all()
+    while THUMBNAILS.pending():
+        assert time.monotonic() < deadline, "thumbnails were not made"
+        yield 0.1
+        redraw_all()
 
 
 def steps():
@@ -275,6 +289,10 @@ def steps():
     assert SESSION.view is not None, "the library was not reopened on load"
     assert "DEFAULT_CLOSED" in panels.MWB_PT_sampling_expert.bl_options, "expert settings start open"
     record_panels()
+    no_tooltips()
+    # A scene camera: the ranking's rows show thumbnails and the previewed world a filmstrip. It is
+    # hidden in the viewport, where it would stand in front of the paths.
+    add_camera(scene).hide_set(True)
     properties = next(a for a in window.screen.areas if a.type == "PROPERTIES")
     properties.spaces.active.context = "PHYSICS"
     r3d = area.spaces.active.region_3d
@@ -323,20 +341,23 @@ def steps():
     # A drawing budget too small for every path: the Paths panel says a subset is shown.
     path_overlay.OVERLAY.vertex_budget = 1000
     yield
-    redraw_all()
+    yield from thumbnails_made()
     results.append(measure("boxes_and_preview"))
     paths_text = " ".join(texts("Paths"))
     assert "(drawing budget)" in paths_text, paths_text
     shot = window_screenshot("boxes_and_preview.png")
     # The sidebar alone, at its top, scrolled halfway and to its end, side by side (the README's picture).
     top = crop(shot, "sidebar_top.png", sidebar)
-    yield from scroll(window, area, "UI", steps=14)
+    yield from scroll(window, area, "UI", steps=19)
     redraw_all()
     middle = crop(window_screenshot("boxes_and_preview_ranking.png"), "sidebar_middle.png", sidebar)
     yield from scroll(window, area, "UI")
     redraw_all()
     bottom = crop(window_screenshot("boxes_and_preview_end.png"), "sidebar_bottom.png", sidebar)
     save_rgb(np.concatenate([top, middle, bottom], axis=1), "sidebar.png")
+    if os.environ.get("MWB_TEST_ARTIFACTS"):
+        # The README's picture, written again: MWB_TEST_ARTIFACTS=tests/viewport.
+        shutil.copy(os.path.join(OUT_DIR, "sidebar.png"), os.path.join(os.environ["MWB_TEST_ARTIFACTS"], "sidebar.png"))
     path_overlay.OVERLAY.vertex_budget = path_budget.VERTEX_BUDGET
     # Text is drawn, light on the panels' grey, and the scrolled half shows other panels.
     assert (top.min(axis=-1) > 0.75).sum() > 2000 and (bottom.min(axis=-1) > 0.75).sum() > 2000
@@ -364,6 +385,12 @@ def steps():
     scene.frame_set(25)
     assert abs(moved.matrix_world.translation.x - position) < 1e-6, "the moved object was posed again"
     bpy.ops.mwb.end_preview()
+    # The preview ended from the panel: its question goes away as the mouse leaves it (or on Esc).
+    x, y = region.x + 40, region.y + region.height // 2
+    window.event_simulate(type="MOUSEMOVE", value="NOTHING", x=x, y=y)
+    window.event_simulate(type="ESC", value="PRESS", x=x, y=y)
+    window.event_simulate(type="ESC", value="RELEASE", x=x, y=y)
+    yield
 
     # The collapsed subpanels opened, the variation ranges as min and max.
     open_expert_panels()

@@ -7,6 +7,7 @@ import traceback
 import bpy
 import gpu
 import numpy as np
+from mathutils import Vector
 
 
 def colour_mask(rgb, colour, tolerance=0.12):
@@ -20,6 +21,23 @@ def viewport():
     area = max((a for a in window.screen.areas if a.type == "VIEW_3D"), key=lambda a: a.width * a.height)
     region = next(r for r in area.regions if r.type == "WINDOW")
     return window, area, region
+
+
+def add_camera(scene):
+    """A scene camera looking down at the fixture's boxes from the front right (the ranking's
+    thumbnails and filmstrips are seen through it)."""
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    scene.collection.objects.link(camera)
+    camera.location = (2.0, -2.4, 1.7)
+    camera.rotation_euler = (Vector((0.6, 0.0, 0.5)) - camera.location).to_track_quat("-Z", "Y").to_euler()
+    scene.camera = camera
+    scene.render.resolution_x, scene.render.resolution_y = 1280, 720
+    return camera
+
+
+def no_tooltips():
+    """No tooltips: the mouse left over a button would cover part of a screenshot with one."""
+    bpy.context.preferences.view.show_tooltips = False
 
 
 def screenshot(out_dir, name):
