@@ -30,6 +30,7 @@ from many_worlds.core.session import SESSION  # noqa: E402
 from many_worlds.thumbnails import THUMBNAILS  # noqa: E402
 from many_worlds.ui import filmstrip  # noqa: E402
 from viewport_helpers import add_camera, colour_mask, no_tooltips, run_steps, viewport  # noqa: E402
+import viewport_helpers  # noqa: E402
 
 OUT_DIR = sys.argv[sys.argv.index("--") + 1]
 TICK_S = 0.3
@@ -68,9 +69,7 @@ def save_rgb(name, rgb):
 
 
 def window_screenshot(name):
-    window = bpy.context.window_manager.windows[0]
-    with bpy.context.temp_override(window=window, screen=window.screen):
-        bpy.ops.screen.screenshot(filepath=os.path.join(OUT_DIR, name), check_existing=False)
+    viewport_helpers.window_screenshot(OUT_DIR, name)
 
 
 def show_many_worlds_tab(window, area):

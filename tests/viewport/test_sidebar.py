@@ -26,7 +26,6 @@ import threading
 import time
 
 import bpy
-import gpu
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -39,6 +38,7 @@ from many_worlds.draw import paths as path_overlay  # noqa: E402
 from many_worlds.ui import lists, panels  # noqa: E402
 import label_fit  # noqa: E402
 from viewport_helpers import add_camera, no_tooltips, run_steps, viewport  # noqa: E402
+import viewport_helpers  # noqa: E402
 
 OUT_DIR = sys.argv[sys.argv.index("--") + 1]
 TICK_S = 0.3
@@ -110,70 +110,13 @@ def redraw_all():
         bpy.ops.wm.redraw_timer(type="DRAW_WIN_SWAP", iterations=1)
 
 
-def region_pixels(window):
-    """[(region, RGB)] of every region of the window, read back from its framebuffer during one
-    redraw (each space's draw handlers run in their own regions)."""
-    captured, handles = [], []
-    for area in window.screen.areas:
-        space_type = type(area.spaces.active)
-        for region in area.regions:
-            if region.width < 2 or region.height < 2:
-                continue
-
-            def capture(region=region):
-                if bpy.context.region != region:
-                    return
-                buffer = gpu.state.active_framebuffer_get().read_color(
-                    0, 0, region.width, region.height, 4, 0, "FLOAT")
-                buffer.dimensions = region.width * region.height * 4
-                rgba = np.array(buffer, dtype=np.float32).reshape(region.height, region.width, 4)
-                captured.append((region, rgba[..., :3]))
-            try:
-                handle = space_type.draw_handler_add(capture, (), region.type, "POST_PIXEL")
-            except (TypeError, ValueError, AttributeError):
-                continue
-            handles.append((space_type, handle, region.type))
-    try:
-        redraw_all()
-    finally:
-        for space_type, handle, region_type in handles:
-            space_type.draw_handler_remove(handle, region_type)
-    return captured
-
-
 def window_screenshot(name):
-    """The whole window as the user sees it (saved as `name`), as RGB rows from the bottom.
-
-    Blender 4's screenshot operator saves black under Xvfb's software GL; the window is then put
-    together from its regions' framebuffers (main regions first, the overlapping sidebar and
-    toolbar over them).
-    """
-    window = bpy.context.window_manager.windows[0]
-    path = os.path.join(OUT_DIR, name)
-    with bpy.context.temp_override(window=window, screen=window.screen):
-        bpy.ops.screen.screenshot(filepath=path, check_existing=False)
-    image = bpy.data.images.load(path)
-    width, height = image.size
-    rgb = np.array(image.pixels[:], dtype=np.float32).reshape(height, width, 4)[..., :3]
-    bpy.data.images.remove(image)
-    if rgb.max() > 0.05:
-        return rgb
-    rgb = np.zeros((window.height, window.width, 3), np.float32)
-    for region, pixels in sorted(region_pixels(window), key=lambda rp: rp[0].type in ("UI", "TOOLS")):
-        x, y = region.x - window.x, region.y - window.y
-        h, w = pixels.shape[:2]
-        rgb[y:y + h, x:x + w] = pixels[:max(0, rgb.shape[0] - y), :max(0, rgb.shape[1] - x)]
-    save_rgb(rgb, name)
-    return rgb
+    """The whole window as the user sees it (saved as `name`), as RGB rows from the bottom."""
+    return viewport_helpers.window_screenshot(OUT_DIR, name, redraw_all)
 
 
 def save_rgb(rgb, name):
-    image = bpy.data.images.new(name, rgb.shape[1], rgb.shape[0])
-    image.pixels.foreach_set(np.concatenate([rgb, np.ones(rgb.shape[:2] + (1,), np.float32)], axis=-1).ravel())
-    image.filepath_raw = os.path.join(OUT_DIR, name)
-    image.file_format = "PNG"
-    image.save()
-    bpy.data.images.remove(image)
+    viewport_helpers.save_rgb(rgb, os.path.join(OUT_DIR, name))
 
 
 def crop(rgb, out_name, region):
