@@ -209,6 +209,66 @@ QueryBox box_over_x(double x0, double x1, bool negative, std::vector<uint32_t> b
     return box;
 }
 
+// Random worlds (some without some bodies) and random sets of boxes (positive and negative, time
+// windows, swept): the index's per-world count of boxes met must be exactly brute force's.
+TEST(PathIndex, IndexAnswersEqualBruteForceOnRandomWorldsAndBoxes) {
+    PortableRandom random(4321);
+    constexpr uint32_t kBodies = 6;
+    std::vector<IndexedWorldInput> worlds(120);
+    for (size_t w = 0; w < worlds.size(); ++w) {
+        IndexedWorldInput& world = worlds[w];
+        world.world_index = 3 * w + 1;
+        const size_t n = 2 + static_cast<size_t>(random.uniform(0, 120));
+        world.last_frame = static_cast<uint32_t>(4 * (n - 1));
+        world.hold_until_s = random.uniform01() < 0.5 ? 4.0 * (n - 1) / 120 + random.uniform(0, 4) : 0.0;
+        // A world made before the last bodies were added has fewer paths; a removed body has none.
+        const uint32_t paths = random.uniform01() < 0.2 ? kBodies - 2 : kBodies;
+        for (uint32_t b = 0; b < paths; ++b) {
+            std::vector<float> points;
+            if (random.uniform01() >= 0.1) {
+                Vec3 p{random.uniform(-3, 3), random.uniform(-3, 3), random.uniform(-8, -2)};
+                for (size_t k = 0; k < n; ++k) {
+                    for (int a = 0; a < 3; ++a) p[a] += random.uniform(-0.2, 0.2);
+                    points.insert(points.end(), {static_cast<float>(p[0]), static_cast<float>(p[1]),
+                                                 static_cast<float>(p[2])});
+                }
+            }
+            world.polylines.push_back(std::move(points));
+            world.final_orientations.push_back({1, 0, 0, 0});
+        }
+    }
+    PathIndex index(std::vector<double>(kBodies, 0.3));
+    index.add_worlds(std::move(worlds), 2);
+    size_t met = 0, counted = 0;
+    for (int trial = 0; trial < 150; ++trial) {
+        std::vector<QueryBox> boxes(1 + static_cast<size_t>(random.uniform(0, 3)));
+        for (QueryBox& box : boxes) {
+            const bool ortho = random.uniform01() < 0.5;
+            const Matrix4 projection = ortho ? orthographic(-4, 4, -4, 4, 0.5, 20) : perspective(1.2, 1.0, 0.5, 20);
+            const double x0 = random.uniform(0, 900), y0 = random.uniform(0, 900);
+            box.frustum = make_screen_frustum(kIdentity, projection, 1000, 1000, x0, y0, x0 + random.uniform(5, 400),
+                                              y0 + random.uniform(5, 400));
+            box.negative = random.uniform01() < 0.4;
+            box.swept = random.uniform01() < 0.3;
+            for (uint32_t b = 0; b < kBodies; ++b)
+                if (random.uniform01() < 0.5) box.bodies.push_back(b);
+            if (random.uniform01() < 0.3) {
+                const double t0 = random.uniform(0, 4);
+                box.window = {t0, t0 + random.uniform(0, 2)};
+            }
+        }
+        const QueryResult fast = index.query(boxes, 0, false);
+        const QueryResult brute = index.query(boxes, 0, true);
+        ASSERT_EQ(fast.boxes_satisfied, brute.boxes_satisfied) << "trial " << trial;
+        ASSERT_EQ(fast.matching, brute.matching) << "trial " << trial;
+        for (uint32_t n : fast.boxes_satisfied) met += n;
+        counted += fast.boxes_satisfied.size() * boxes.size();
+    }
+    // Both answers must be common for the comparison to mean anything.
+    EXPECT_GT(met, counted / 10);
+    EXPECT_LT(met, counted * 9 / 10);
+}
+
 TEST(PathIndex, PositiveAndNegativeBoxesCombineByAnd) {
     PathIndex index({0.1, 0.5});
     fill_small_index(index, 6);

@@ -43,9 +43,10 @@ std::unique_ptr<PathIndex::World> PathIndex::build_world(IndexedWorldInput&& inp
     world->world_index = input.world_index;
     world->paths.reserve(input.polylines.size());
     for (std::vector<float>& polyline : input.polylines) {
-        world->root_spheres.push_back(bounding_sphere(polyline));
+        const std::array<float, 4> sphere = bounding_sphere(polyline);
         world->paths.emplace_back(std::move(polyline), input.stride, input.last_frame, input.record_hz,
                                   input.hold_until_s);
+        world->roots.push_back({sphere, sphere[3] < 0 ? PathTree::Box{} : world->paths.back().root_box()});
     }
     world->final_orientations = std::move(input.final_orientations);
     world->metric_names = std::move(input.metric_names);
@@ -97,7 +98,7 @@ size_t PathIndex::memory_bytes() const {
     std::lock_guard<std::mutex> lock(mutex_);
     size_t bytes = sizeof(*this);
     for (const auto& w : worlds_) {
-        bytes += sizeof(World) + w->root_spheres.capacity() * sizeof(w->root_spheres[0]) +
+        bytes += sizeof(World) + w->roots.capacity() * sizeof(World::Root) +
                  w->final_orientations.capacity() * sizeof(Quat);
         for (const PathTree& p : w->paths) bytes += p.memory_bytes();
         for (const auto& m : w->metric_values) bytes += m.capacity() * sizeof(double);
@@ -119,10 +120,12 @@ bool PathIndex::world_satisfies(const World& world, const QueryBox& box, bool br
     for (uint32_t body : box.bodies) {
         if (body >= body_radii_m_.size()) throw std::out_of_range("query box names body " + std::to_string(body));
         // A body the world does not have (no path: a sphere of negative radius) never enters a
-        // box. The spheres lie side by side, so a box over many bodies rarely touches the trees.
-        if (body >= world.root_spheres.size() || world.root_spheres[body][3] < 0) continue;
+        // box.
+        if (body >= world.roots.size() || world.roots[body].sphere[3] < 0) continue;
         const double radius = box.swept ? body_radii_m_[body] : 0.0;
-        if (!brute_force && sphere_outside(box.frustum, world.root_spheres[body], radius)) continue;
+        if (!brute_force && (sphere_outside(box.frustum, world.roots[body].sphere, radius) ||
+                             PathTree::box_outside(world.roots[body].box, box.frustum, radius)))
+            continue;
         const PathTree& path = world.paths[body];
         if (brute_force ? path.touches_brute_force(box.frustum, box.window, radius)
                         : path.touches(box.frustum, box.window, radius)) {

@@ -93,7 +93,13 @@ private:
     struct World {
         uint64_t world_index;
         std::vector<PathTree> paths;
-        std::vector<std::array<float, 4>> root_spheres;  ///< per body: centre, radius
+        /// Per body, side by side: a sphere around the path (centre, radius; negative radius: no
+        /// path) and the tree's root box, so a box over many bodies rarely reaches the trees.
+        struct Root {
+            std::array<float, 4> sphere;
+            PathTree::Box box;
+        };
+        std::vector<Root> roots;
         std::vector<Quat> final_orientations;
         std::vector<std::string> metric_names;
         std::vector<std::vector<double>> metric_values;

@@ -84,6 +84,15 @@ std::array<Vec3, 3> PathTree::axes_of(const Node& node) {
             Vec3{2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)}};
 }
 
+int PathTree::classify(const Node& node, const Frustum& frustum, double radius) {
+    return frustum.classify_box({node.center[0], node.center[1], node.center[2]}, axes_of(node),
+                                {node.half_extents[0], node.half_extents[1], node.half_extents[2]}, radius);
+}
+
+bool PathTree::box_outside(const Box& box, const Frustum& frustum, double radius) {
+    return classify(box, frustum, radius) < 0;
+}
+
 bool PathTree::splits(uint32_t first, uint32_t last, int depth) {
     return depth < kMaxDepth && last - first >= kMinSegmentsToSplit;
 }
@@ -230,8 +239,7 @@ double PathTree::node_first_touch(uint32_t index, uint32_t first, uint32_t last,
     const Node& node = nodes_[index];
     const double start = time_of(first), end = end_of(last);
     if (end < t_lo || start > t_hi) return std::numeric_limits<double>::infinity();
-    const int side = frustum.classify_box({node.center[0], node.center[1], node.center[2]}, axes_of(node),
-                                          {node.half_extents[0], node.half_extents[1], node.half_extents[2]}, radius);
+    const int side = classify(node, frustum, radius);
     if (side < 0) return std::numeric_limits<double>::infinity();
     // Wholly inside: the path touches from the first moment of the node within the window.
     if (side > 0) return std::max(start, t_lo);

@@ -17,6 +17,14 @@ struct TimeWindow {
 
 class PathTree {
 public:
+    /// An oriented box in 32 bytes: single-precision centre and extents, the axes as a rotation
+    /// quantized to 16 bits per component.
+    struct Box {
+        std::array<float, 3> center;
+        std::array<int16_t, 4> rotation;  ///< w, x, y, z of a unit quaternion, times 32767
+        std::array<float, 3> half_extents;
+    };
+
     /// Builds the tree over `points` (flat (n, 3), float32) where point k is at time
     /// min(k·stride, last_frame) / record_hz. The last point is held from its time up to
     /// `hold_until_s` (a world that came to rest before the run's end stays where it rests).
@@ -38,6 +46,13 @@ public:
     /// The same by testing every segment in order; for tests and benchmarks.
     double first_touch_time_brute_force(const Frustum& frustum, const TimeWindow& window, double radius) const;
 
+    /// The root's oriented box, as the tree tests it; only for a path with points. Kept beside
+    /// other paths' roots, it decides most queries without touching the tree.
+    const Box& root_box() const { return nodes_.front(); }
+    /// Whether `box` (grown by `radius`) lies wholly outside the frustum: then the path does not
+    /// touch it at any time, exactly as the tree would answer.
+    static bool box_outside(const Box& box, const Frustum& frustum, double radius);
+
     size_t point_count() const { return points_.size() / 3; }
     /// Point k as stored: quantized to 16 bits per axis within the path's bounding box (about
     /// 0.3 mm over 20 m). Tree and brute force both see exactly these points.
@@ -51,17 +66,13 @@ public:
     size_t memory_bytes() const;
 
 private:
-    // 32 bytes a node: single-precision centre and extents, the axes as a rotation quantized to
-    // 16 bits per component. The box is measured around the axes as the query rebuilds them, and
+    // A node is a Box. The box is measured around the axes as the query rebuilds them, and
     // padded for the single-precision rounding, so every point stays inside it. Which points a
     // node covers and whether it has children follow from the point count (nodes are in
     // depth-first order, each range split at its middle), so they are not stored.
-    struct Node {
-        std::array<float, 3> center;
-        std::array<int16_t, 4> rotation;  ///< w, x, y, z of a unit quaternion, times 32767
-        std::array<float, 3> half_extents;
-    };
+    using Node = Box;
     static std::array<Vec3, 3> axes_of(const Node& node);
+    static int classify(const Node& node, const Frustum& frustum, double radius);
     static bool splits(uint32_t first, uint32_t last, int depth);
     /// Nodes of the subtree over points first..last at `depth`.
     static uint32_t subtree_nodes(uint32_t first, uint32_t last, int depth);
