@@ -34,6 +34,11 @@ std::string hash_of_first_worlds(const std::string& scene_file) {
 }
 
 TEST(Golden, BundledScenesReproduceTheirRecordedWorlds) {
+#ifndef MWB_ODE_PER_THREAD_RANDOM
+    // MWB_SYSTEM_ODE: the system's libode computes its sin, cos and atan2 with the C library, whose
+    // last bits differ from the portable functions the hashes were recorded with.
+    GTEST_SKIP() << "the golden hashes are recorded with the bundled ODE; this build links the system's libode";
+#endif
     const std::vector<std::string> scenes{"scenes/quickstart.json", "scenes/all_shapes_and_joints.json",
                                           "bench/chain.json"};
     std::map<std::string, std::string> golden = read_golden();
