@@ -11,6 +11,7 @@
 #include "library/LibraryReader.h"
 #include "library/LibraryWriter.h"
 #include "library/WorldDecoding.h"
+#include "refine/StoredWorldRefinement.h"
 #include "sampler/Sampler.h"
 #include "scene/SceneJson.h"
 #include "seek/GoalJson.h"
@@ -201,6 +202,31 @@ TEST_F(Seek, AGoalMetAlreadyIsFoundWithoutNewWorldsAndBadRequestsAreRefused) {
     broke.budget_worlds = 0;
     EXPECT_THROW(seek_goal(file, broke), GoalError);
     EXPECT_EQ(LibraryReader(file).worlds().size(), 6u);
+}
+
+TEST_F(Seek, ALibraryOfAnotherBuildStopsTheSearchWithOneLineNamingBothBuilds) {
+    // Worlds stored under a header they were not made with (another base seed) stand for another
+    // build's worlds: none comes out as stored.
+    const std::string file = path("foreign.mwb");
+    {
+        const RunHeader header{scene_to_json(scene_), SimulationParameters{}, CodecBounds{}, 3,
+                               "many-worlds 0.0.9; another build"};
+        const CompiledScene compiled(scene_, header.parameters);
+        LibraryWriter writer(file, header);
+        sample_worlds(compiled, header.base_seed + 1, 0, 6, 2, [&](WorldResult&& w) { writer.append(w); });
+    }
+    try {
+        seek_goal(file, request(2));
+        FAIL() << "a search must not go on in a library whose worlds this build cannot reproduce";
+    } catch (const RefineError& error) {
+        const std::string message = error.what();
+        EXPECT_NE(message.find("another build"), std::string::npos) << message;
+        EXPECT_NE(message.find(engine_build()), std::string::npos) << message;
+        EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
+    }
+    // Nothing of this build's making went into the other build's file.
+    const LibraryReader reader(file);
+    EXPECT_EQ(reader.worlds().size() + reader.rejections().size(), 6u);
 }
 
 }  // namespace

@@ -75,7 +75,7 @@ RefineOutcome refine_stored_world(const LibraryReader& reader, const RefineReque
     if (chain.empty()) {
         chain = simulate_lineage(compiled, header.base_seed, root, parent.lineage);
         if (chain.back().frame_count != parent.frame_count || chain.back().contacts.size() != parent.contacts.size())
-            throw RefineError(not_reproduced_message(parent.world_index, header.engine_build));
+            throw WorldNotReproduced(not_reproduced_message(parent.world_index, header.engine_build));
         if (cache && same_scene)
             for (const WorldResult& w : chain) cache->keep(w);
     }

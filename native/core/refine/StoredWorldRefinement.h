@@ -22,6 +22,13 @@ struct RefineError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+/// A stored world that does not come out as stored when simulated again: the library was made by
+/// another engine build (or is damaged). No refinement of that library can succeed, so callers
+/// that try several requests (the goal search) stop on it.
+struct WorldNotReproduced : RefineError {
+    using RefineError::RefineError;
+};
+
 struct RefineRequest {
     uint64_t parent_world = 0;
     /// Scene body indices simulated anew from the branch (with whatever they touch).

@@ -311,6 +311,8 @@ private:
         RefineOutcome outcome;
         try {
             outcome = refine_stored_world(reader_, refine, writer_, {}, progress_, &cache_);
+        } catch (const WorldNotReproduced&) {
+            throw;  // another build's library: no branch point of it can be refined here
         } catch (const RefineError&) {
             return;  // this branch point does not fit (e.g. a body that is not simulated there); others may
         }

@@ -56,8 +56,9 @@ using SeekListener = std::function<void(const SeekStatus&)>;
 /// Searches the library at `library_path` (appending to it) for worlds meeting `request.boxes`.
 /// Deterministic: the same library, goal, budget in worlds and seed give the same worlds on any
 /// number of threads. Setting progress->cancel stops it at the next world; every world made so
-/// far is in the file. Throws GoalError for a goal that does not fit the library, RefineError or
-/// LibraryError when the library cannot be refined.
+/// far is in the file. Throws GoalError for a goal that does not fit the library,
+/// WorldNotReproduced when its worlds were made by another engine build, and LibraryError when
+/// the file cannot be read or written.
 SeekOutcome seek_goal(const std::string& library_path, const SeekRequest& request, const SeekListener& on_status = {},
                       SamplingProgress* progress = nullptr);
 
