@@ -1,9 +1,11 @@
 """Builds the spiral-staircase example: a simple articulated character tumbles down a three-turn
 spiral staircase.
 
-Goal: "the character falls all the way down the staircase without falling off". A random run goes
-down a few steps and then flies off the open side; the paper's user chained rare events with
-refinement (18 refinements) to get him to the bottom, and culled runs where he slid down on his back.
+Goal: "the character falls all the way down the staircase without falling off". He is shoved off
+the landing; a random run comes to rest within a few steps or goes over the low outer string and
+falls to the ground, and only about one in fifty tumbles all the way down. The paper's user chained
+rare events with refinement (18 refinements) to get him to the bottom, and culled runs where he slid
+down on his back.
 
 The character is 10 capsules and a sphere joined by 10 GENERIC_SPRING constraints: ball joints
 (all three linear axes locked) with angular limits, and angular springs whose rest pose is the pose
@@ -27,23 +29,28 @@ from example_kit import (  # noqa: E402
     sphere, variation)
 
 FPS = 24
-FRAME_START, FRAME_END = 1, 240         # 10 s: long enough to tumble down all three turns
+FRAME_START, FRAME_END = 1, 960         # 40 s: long enough to tumble down all three turns
 SUBSTEPS, SOLVER_ITERATIONS = 10, 20    # more iterations keep the joint chain stiff
 WORLD_COUNT, SEED = 1000, 1
 
 # staircase
-TURNS, STEPS_PER_TURN, RISE = 3, 16, 0.17
+TURNS, STEPS_PER_TURN, RISE = 3, 16, 0.22
 STEP_COUNT = TURNS * STEPS_PER_TURN
-COLUMN_RADIUS, STAIR_RADIUS, STEP_THICKNESS = 0.25, 1.5, 0.08
+COLUMN_RADIUS, STAIR_RADIUS, STEP_THICKNESS = 0.2, 1.2, 0.08   # 37° steep at the walking line (0.75 m)
 TOP_ANGLE = math.radians(90)            # the first step below the landing; the stair turns clockwise going down
 LANDING_STEPS = 3                        # the landing at the top is this many steps wide
 TOP_Z = (STEP_COUNT + 1) * RISE          # the landing's top surface; the last step is one rise above the ground
+TREAD_FRICTION = 0.4                     # sanded hardwood; with the clothed body 0.16 (Bullet multiplies them)
+STRING_HEIGHT, STRING_THICKNESS, STRING_FRICTION = 0.22, 0.05, 0.3   # the outer string stands up past the treads
 
 # character (metres, kilograms), built standing in a local frame: x right, y forward, z up, feet at 0
 PART_MASS = {"Pelvis": 4.0, "Torso": 8.0, "Head": 2.5, "UpperArm": 1.2, "Forearm": 0.8, "Thigh": 2.5, "Shin": 1.5}
-START_RADIUS = 0.95                      # the character stands this far from the axis, mid-tread
+BODY_FRICTION, BODY_RESTITUTION = 0.4, 0.05
+START_RADIUS = 0.75                      # the character stands this far from the axis, mid-tread
 START_LEAN = math.radians(12)            # leaning forward over the first step, so he falls with no push
-
+SHOVE = (0.5, 1.5)                       # m/s: the range of the torso's push forward, down the stairs
+PUSH = (0.4, 0.4, 0.1)                   # m/s: and either way across it, world axes
+SPIN = (0.5, 0.5, 0.5)                   # rad/s
 
 # --- generic helpers ---------------------------------------------------------------------------
 
@@ -61,12 +68,26 @@ def step(name, angle, top_z, width_steps, mats):
     tread = box(name, (radial, arc, STEP_THICKNESS),
                 location=(mid * math.cos(angle), mid * math.sin(angle), top_z - STEP_THICKNESS / 2),
                 rotation=(0, 0, angle), mat=mats["step"])
-    rigid_body(tread, "PASSIVE", "BOX", friction=0.6)
+    rigid_body(tread, "PASSIVE", "BOX", friction=TREAD_FRICTION)
+
+
+def string_piece(name, angle, top_z, width_steps, mats):
+    """A passive piece of the outer string along a tread's outer edge, from the tread's underside
+    to STRING_HEIGHT above it."""
+    arc = STAIR_RADIUS * 2 * math.pi / STEPS_PER_TURN * width_steps
+    r = STAIR_RADIUS - STRING_THICKNESS / 2
+    height = STRING_HEIGHT + STEP_THICKNESS
+    piece = box(name, (STRING_THICKNESS, arc, height),
+                location=(r * math.cos(angle), r * math.sin(angle), top_z - STEP_THICKNESS + height / 2),
+                rotation=(0, 0, angle), mat=mats["string"])
+    rigid_body(piece, "PASSIVE", "BOX", friction=STRING_FRICTION)
 
 
 def build_staircase(mats):
-    """Treads descending clockwise round a central column, three full turns, no outer railing:
-    falling off the open side is exactly what the user wants to avoid."""
+    """Treads descending clockwise round a central column, three full turns, and the outer string
+    standing 22 cm up past them, with no balustrade on it: the string turns a body sliding or
+    rolling down with the stairs, one tumbling higher goes over it, and falling off is exactly what
+    the user wants to avoid."""
     column = cylinder("Column", COLUMN_RADIUS, TOP_Z + 1.0, location=(0, 0, (TOP_Z + 1.0) / 2), mat=mats["column"])
     rigid_body(column, "PASSIVE", "CYLINDER", friction=0.4)
     ground = box("Ground", (12, 12, 0.2), location=(0, 0, -0.1), mat=mats["ground"])
@@ -75,6 +96,7 @@ def build_staircase(mats):
     step("Landing", landing_angle, TOP_Z, LANDING_STEPS, mats)
     for k in range(STEP_COUNT):
         step(f"Step{k + 1:02d}", step_angle(k), TOP_Z - (k + 1) * RISE, 1.05, mats)
+        string_piece(f"String{k + 1:02d}", step_angle(k), TOP_Z - (k + 1) * RISE, 1.05, mats)
 
 
 # --- character ----------------------------------------------------------------------------------
@@ -107,7 +129,8 @@ def build_character(mats):
     """11 bodies, 10 joints. Collision collections: every part has its own, the staircase has all of
     them, so the character hits the stairs but not himself (his forearms sit close to his head)."""
     heading = step_angle(-0.5) + math.pi             # facing clockwise, down the stairs
-    feet = Vector((START_RADIUS * math.cos(step_angle(-0.7)), START_RADIUS * math.sin(step_angle(-0.7)), TOP_Z + 0.005))
+    feet = Vector((START_RADIUS * math.cos(step_angle(-0.7)), START_RADIUS * math.sin(step_angle(-0.7)),
+                   TOP_Z + 0.005))
     placement = Matrix.Translation(feet) @ Matrix.Rotation(heading, 4, "Z") @ Matrix.Rotation(-START_LEAN, 4, "X")
     j = joints_local()
     parts = {
@@ -129,13 +152,18 @@ def build_character(mats):
                                     PART_MASS["Shin"], placement, mats)
     for i, (name, (obj, mass)) in enumerate(parts.items()):
         shape = "SPHERE" if name == "Head" else "CAPSULE"
-        rigid_body(obj, "ACTIVE", shape, mass=mass, friction=0.7, restitution=0.05, damping=(0.05, 0.2),
-                   collections={1 + i})
+        rigid_body(obj, "ACTIVE", shape, mass=mass, friction=BODY_FRICTION, restitution=BODY_RESTITUTION,
+                   damping=(0.05, 0.2), collections={1 + i})
     body = {name: obj for name, (obj, _) in parts.items()}
     build_joints(body, j, placement)
-    # Only the torso varies, and only in velocity: a push. Offsetting the location of one part of a
-    # jointed body would just tear the joint; a velocity is passed on to the rest through the joints.
-    variation(body["Torso"], linear_velocity=(0.4, 0.4, 0.1), angular_velocity=(0.5, 0.5, 0.5))
+    # Only the torso varies, and only in velocity: a shove down the stairs. Offsetting the location of
+    # one part of a jointed body would just tear the joint; a velocity is passed on to the rest through
+    # the joints. The range is not centred on zero: every world starts with a shove forward.
+    forward = placement.to_3x3() @ Vector((0, 1, 0))
+    forward.z = 0
+    centre = forward.normalized() * (SHOVE[0] + SHOVE[1]) / 2
+    half = Vector(PUSH) + Vector([abs(c) for c in forward.normalized() * (SHOVE[1] - SHOVE[0]) / 2])
+    shove_range(body["Torso"], centre - half, centre + half, SPIN)
 
 
 # (name, parent, child, joint, angular limit x/y/z in radians, spring stiffness N*m/rad)
@@ -168,6 +196,15 @@ def build_joints(body, j, placement):
                    rotation=orientation, **settings)
 
 
+def shove_range(obj, low, high, spin):
+    """The add-on's variation ranges with a linear velocity from `low` to `high` (world axes, m/s)
+    and an angular velocity of ±spin (rad/s)."""
+    variation(obj, angular_velocity=spin)
+    ranges = obj["mwb_variation"].to_dict()
+    ranges["linear_velocity_min"], ranges["linear_velocity_max"] = list(low), list(high)
+    obj["mwb_variation"] = ranges
+
+
 def main():
     path = output_path()
     bpy.ops.wm.read_factory_settings(use_empty=True)
@@ -175,10 +212,11 @@ def main():
     scene_settings(FPS, FRAME_START, FRAME_END, SUBSTEPS, SOLVER_ITERATIONS, WORLD_COUNT, SEED)
     mats = {k: material(k, rgb) for k, rgb in {
         "ground": (0.35, 0.38, 0.35), "column": (0.7, 0.68, 0.62), "step": (0.55, 0.42, 0.3),
+        "string": (0.3, 0.22, 0.16),
         "body": (0.2, 0.45, 0.8), "head": (0.95, 0.75, 0.6)}.items()}
     build_staircase(mats)
     build_character(mats)
-    camera_and_lights(location=(13.0, -13.0, 10.0), target=(0, 0, 4.6), lens=38)
+    camera_and_lights(location=(13.0, -13.0, TOP_Z / 2 + 4.0), target=(0, 0, TOP_Z / 2 - 0.3), lens=30)
     bpy.context.preferences.filepaths.save_version = 0     # no .blend1 backup beside the committed file
     bpy.ops.wm.save_as_mainfile(filepath=path, compress=True)
 

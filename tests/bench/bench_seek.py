@@ -130,13 +130,15 @@ def pachinko_letters_goal():
 def spiral_staircase_goal():
     """He falls from top to bottom without leaving the staircase's footprint: negative boxes on the
     Pelvis all round the footprint seen from above (two square frames, one turned 45°: an octagon
-    round the treads); positive boxes on the Pelvis over every fourth step on the way, in turn
-    (each seen side-on across its tread, from the tread up to 0.7 m above it); and at the end,
-    at the foot of the stairs (below 0.8 m, seen from the front)."""
-    r, big = 1.65, 6.0
+    15 cm outside the treads); positive boxes on the Pelvis over every fourth step on the way, in
+    turn (each seen side-on across its tread, from the tread up to 0.7 m above it); and at the end,
+    at the foot of the stairs (within 0.7 m of the last three treads or on the ground below them)."""
+    steps = sorted((o for o in bpy.data.objects if o.name.startswith("Step")), key=lambda o: o.name)
+    r = max(Vector(((s.matrix_world @ Vector(c)).x, (s.matrix_world @ Vector(c)).y)).length
+            for s in steps for c in s.bound_box) + 0.15
+    big = 6.0
     frame = [(-big, -big, -r, big), (r, -big, big, big), (-r, -big, r, -r), (-r, r, r, big)]
     boxes = [top_box(*rect, ["Pelvis"], negative=True, turned=turned) for turned in (False, True) for rect in frame]
-    steps = sorted((o for o in bpy.data.objects if o.name.startswith("Step")), key=lambda o: o.name)
 
     def tread_top(step):
         return max((step.matrix_world @ Vector(c)).z for c in step.bound_box)
@@ -146,7 +148,8 @@ def spiral_staircase_goal():
         radial line, heights z_low to z_high."""
         centre = step.matrix_world.translation
         radial = Vector((centre.x, centre.y, 0)).normalized()
-        return ortho_box((-radial.y, radial.x, 0), (0, 0, 1), -half_width, z_low, half_width, z_high, ["Pelvis"], **kw)
+        return ortho_box((-radial.y, radial.x, 0), (0, 0, 1), -half_width, z_low, half_width, z_high, ["Pelvis"],
+                         half_size=max(6.0, z_high + 1.0), **kw)
 
     for k in range(3, len(steps) - 4, 4):
         top = tread_top(steps[k])

@@ -16,7 +16,7 @@ EXAMPLES = {
     "quickstart": (12, "Marble", ["BinLeftFloor"], (3.0, 4.0), True),
     "marble_run": (12, "Marble", ["GoalBasket"], (7.0, 8.0), True),
     "pachinko_letters": (8, "Letter1_W", ["Slot1_W"], (5.0, 6.0), False),
-    "spiral_staircase": (4, "Pelvis", ["Step48"], (8.0, 10.0), False),
+    "spiral_staircase": (4, "Pelvis", ["Step48"], (39.0, 40.0), False),
     "trebuchet_tower": (2, "Rock", ["Block"], (3.0, 4.0), True),
 }
 
