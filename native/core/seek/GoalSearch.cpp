@@ -183,8 +183,15 @@ private:
         const QueryBox& box = request_.boxes[static_cast<size_t>(score.first_unmet)];
         const double hz = w.record_hz;
         const double world_end = (w.first_frame + w.frame_count - 1) / hz;
-        // Keep what the boxes before it in the order achieved: branch after they were met.
-        const double lower = box.after >= 0 ? score.window_start_s : 0.0;
+        // Keep what the boxes before it in the order achieved, all but the last: branch after the
+        // box two before it was met. Branching only after the box it follows leaves too little
+        // to change when the world got there already stopping (a body coming to rest on the step
+        // it just reached); later points are still tried first, so the last box is kept when it can be.
+        double lower = 0.0;
+        if (box.after >= 0) {
+            const int32_t earlier = request_.boxes[static_cast<size_t>(box.after)].after;
+            lower = earlier >= 0 ? score.met_time_s[static_cast<size_t>(earlier)] : 0.0;
+        }
         double upper = std::min(score.failure_time_s, world_end);
         if (!(upper > lower)) upper = world_end;
         std::vector<uint32_t> failing;
