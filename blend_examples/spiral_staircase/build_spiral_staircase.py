@@ -48,8 +48,8 @@ PART_MASS = {"Pelvis": 4.0, "Torso": 8.0, "Head": 2.5, "UpperArm": 1.2, "Forearm
 BODY_FRICTION, BODY_RESTITUTION = 0.4, 0.05
 START_RADIUS = 0.75                      # the character stands this far from the axis, mid-tread
 START_LEAN = math.radians(12)            # leaning forward over the first step, so he falls with no push
-SHOVE = (0.5, 1.5)                       # m/s: the range of the torso's push forward, down the stairs
-PUSH = (0.4, 0.4, 0.1)                   # m/s: and either way across it, world axes
+SHOVE = (0.5, 1.5)                       # m/s: the torso's push forward, down the stairs...
+PUSH = (0.4, 0.4, 0.1)                   # m/s: ...its range widened by this either way on each world axis
 SPIN = (0.5, 0.5, 0.5)                   # rad/s
 
 # --- generic helpers ---------------------------------------------------------------------------
