@@ -27,9 +27,11 @@ esac
 status=0
 # --enable-event-simulate: the box tool test drives the mouse with window.event_simulate (real
 # input is ignored then, which also keeps the other test independent of the X server's pointer).
+# --python-exit-code: a test script that fails as it starts (an import error) ends Blender at once
+# instead of leaving the UI open until the timeout.
 timeout 300 xvfb-run -a -s "-screen 0 1600x1000x24" \
     blender --factory-startup --enable-event-simulate --addons many_worlds "$BLEND" \
-    --python "$ROOT/tests/viewport/$TEST" -- "$OUT" > "$OUT/blender.log" 2>&1 || status=$?
+    --python-exit-code 1 --python "$ROOT/tests/viewport/$TEST" -- "$OUT" > "$OUT/blender.log" 2>&1 || status=$?
 cat "$OUT/blender.log"
 # A Python error while drawing a panel or the overlay is only printed, never raised: fail on it.
 if grep -q "Traceback" "$OUT/blender.log"; then status=1; fi
