@@ -93,28 +93,39 @@ TEST(Frustum, BoxClassification) {
     EXPECT_EQ(f.classify_box({1.1, 0.5, -5}, turned, {0.06, 0.06, 0.06}, 0), -1);  // x >= 1.015: outside
 }
 
+// A random walk of n points (flat, float32) starting in front of the identity camera.
+std::vector<float> random_walk(PortableRandom& random, size_t n, double step) {
+    std::vector<float> points;
+    Vec3 p{random.uniform(-3, 3), random.uniform(-3, 3), random.uniform(-8, -2)};
+    for (size_t k = 0; k < n; ++k) {
+        for (int a = 0; a < 3; ++a) p[a] += random.uniform(-step, step);
+        points.insert(points.end(), {static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2])});
+    }
+    return points;
+}
+
+// A random screen rectangle of a 1000 px view through the identity camera, orthographic or not.
+Frustum random_screen_box(PortableRandom& random) {
+    const bool ortho = random.uniform01() < 0.5;
+    const Matrix4 projection = ortho ? orthographic(-4, 4, -4, 4, 0.5, 20) : perspective(1.2, 1.0, 0.5, 20);
+    const double x0 = random.uniform(0, 900), y0 = random.uniform(0, 900);
+    const double width = random.uniform(5, 400), height = random.uniform(5, 400);
+    return make_screen_frustum(kIdentity, projection, 1000, 1000, x0, y0, x0 + width, y0 + height);
+}
+
 // Random walks and random boxes: the tree must give exactly the brute-force answer.
 TEST(PathTree, TreeAnswersEqualBruteForceOnRandomPathsAndBoxes) {
     PortableRandom random(1234);
     int positives = 0, total = 0;
     for (int trial = 0; trial < 400; ++trial) {
         const size_t n = 1 + static_cast<size_t>(random.uniform(0, 300));
-        std::vector<float> points;
-        Vec3 p{random.uniform(-3, 3), random.uniform(-3, 3), random.uniform(-8, -2)};
-        for (size_t k = 0; k < n; ++k) {
-            for (int a = 0; a < 3; ++a) p[a] += random.uniform(-0.15, 0.15);
-            points.insert(points.end(), {static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2])});
-        }
+        const std::vector<float> points = random_walk(random, n, 0.15);
         // Half the paths end early and hold their last pose up to a later end of the run.
         const double path_end_s = 4.0 * (n - 1) / 120;
         const double hold_until_s = random.uniform01() < 0.5 ? path_end_s + random.uniform(0, 6) : 0.0;
         const PathTree tree(points, 4, static_cast<uint32_t>(4 * (n - 1)), 120, hold_until_s);
         for (int b = 0; b < 25; ++b) {
-            const bool ortho = random.uniform01() < 0.5;
-            const Matrix4 projection = ortho ? orthographic(-4, 4, -4, 4, 0.5, 20) : perspective(1.2, 1.0, 0.5, 20);
-            const double x0 = random.uniform(0, 900), y0 = random.uniform(0, 900);
-            const Frustum f = make_screen_frustum(kIdentity, projection, 1000, 1000, x0, y0,
-                                                  x0 + random.uniform(5, 400), y0 + random.uniform(5, 400));
+            const Frustum f = random_screen_box(random);
             TimeWindow window;
             if (random.uniform01() < 0.3) {
                 const double t0 = random.uniform(0, 10);
@@ -224,16 +235,7 @@ TEST(PathIndex, IndexAnswersEqualBruteForceOnRandomWorldsAndBoxes) {
         // A world made before the last bodies were added has fewer paths; a removed body has none.
         const uint32_t paths = random.uniform01() < 0.2 ? kBodies - 2 : kBodies;
         for (uint32_t b = 0; b < paths; ++b) {
-            std::vector<float> points;
-            if (random.uniform01() >= 0.1) {
-                Vec3 p{random.uniform(-3, 3), random.uniform(-3, 3), random.uniform(-8, -2)};
-                for (size_t k = 0; k < n; ++k) {
-                    for (int a = 0; a < 3; ++a) p[a] += random.uniform(-0.2, 0.2);
-                    points.insert(points.end(), {static_cast<float>(p[0]), static_cast<float>(p[1]),
-                                                 static_cast<float>(p[2])});
-                }
-            }
-            world.polylines.push_back(std::move(points));
+            world.polylines.push_back(random.uniform01() < 0.1 ? std::vector<float>{} : random_walk(random, n, 0.2));
             world.final_orientations.push_back({1, 0, 0, 0});
         }
     }
@@ -243,11 +245,7 @@ TEST(PathIndex, IndexAnswersEqualBruteForceOnRandomWorldsAndBoxes) {
     for (int trial = 0; trial < 150; ++trial) {
         std::vector<QueryBox> boxes(1 + static_cast<size_t>(random.uniform(0, 3)));
         for (QueryBox& box : boxes) {
-            const bool ortho = random.uniform01() < 0.5;
-            const Matrix4 projection = ortho ? orthographic(-4, 4, -4, 4, 0.5, 20) : perspective(1.2, 1.0, 0.5, 20);
-            const double x0 = random.uniform(0, 900), y0 = random.uniform(0, 900);
-            box.frustum = make_screen_frustum(kIdentity, projection, 1000, 1000, x0, y0, x0 + random.uniform(5, 400),
-                                              y0 + random.uniform(5, 400));
+            box.frustum = random_screen_box(random);
             box.negative = random.uniform01() < 0.4;
             box.swept = random.uniform01() < 0.3;
             for (uint32_t b = 0; b < kBodies; ++b)

@@ -74,7 +74,7 @@ Quat rotation_onto(const std::array<Vec3, 3>& axes) {
 
 }  // namespace
 
-std::array<Vec3, 3> PathTree::axes_of(const Node& node) {
+std::array<Vec3, 3> PathTree::axes_of(const Box& node) {
     const Quat q = quat_normalized({node.rotation[0] / 32767.0, node.rotation[1] / 32767.0, node.rotation[2] / 32767.0,
                                     node.rotation[3] / 32767.0});
     const double w = q[0], x = q[1], y = q[2], z = q[3];
@@ -84,7 +84,7 @@ std::array<Vec3, 3> PathTree::axes_of(const Node& node) {
             Vec3{2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)}};
 }
 
-int PathTree::classify(const Node& node, const Frustum& frustum, double radius) {
+int PathTree::classify(const Box& node, const Frustum& frustum, double radius) {
     return frustum.classify_box({node.center[0], node.center[1], node.center[2]}, axes_of(node),
                                 {node.half_extents[0], node.half_extents[1], node.half_extents[2]}, radius);
 }
@@ -145,7 +145,7 @@ double PathTree::time_of(size_t k) const {
 }
 
 size_t PathTree::memory_bytes() const {
-    return sizeof(*this) + points_.capacity() * sizeof(uint16_t) + nodes_.capacity() * sizeof(Node);
+    return sizeof(*this) + points_.capacity() * sizeof(uint16_t) + nodes_.capacity() * sizeof(Box);
 }
 
 void PathTree::build(const std::vector<Vec3>& points, uint32_t first, uint32_t last, int depth) {
@@ -174,7 +174,7 @@ void PathTree::build(const std::vector<Vec3>& points, uint32_t first, uint32_t l
         products[3] - n * mean_offset[1] * mean_offset[1], products[4] - n * mean_offset[1] * mean_offset[2],
         products[2] - n * mean_offset[0] * mean_offset[2], products[4] - n * mean_offset[1] * mean_offset[2],
         products[5] - n * mean_offset[2] * mean_offset[2]};
-    Node node;
+    Box node;
     const Quat rotation = rotation_onto(principal_axes(covariance));
     for (int c = 0; c < 4; ++c) node.rotation[c] = static_cast<int16_t>(std::lround(rotation[c] * 32767.0));
     const std::array<Vec3, 3> axes = axes_of(node);
@@ -236,7 +236,7 @@ double PathTree::segments_first_touch(uint32_t first, uint32_t last, const Frust
 
 double PathTree::node_first_touch(uint32_t index, uint32_t first, uint32_t last, int depth, const Frustum& frustum,
                                   double t_lo, double t_hi, double radius) const {
-    const Node& node = nodes_[index];
+    const Box& node = nodes_[index];
     const double start = time_of(first), end = end_of(last);
     if (end < t_lo || start > t_hi) return std::numeric_limits<double>::infinity();
     const int side = classify(node, frustum, radius);

@@ -66,13 +66,12 @@ public:
     size_t memory_bytes() const;
 
 private:
-    // A node is a Box. The box is measured around the axes as the query rebuilds them, and
+    // A node is a Box, measured around the axes as the query rebuilds them, and
     // padded for the single-precision rounding, so every point stays inside it. Which points a
     // node covers and whether it has children follow from the point count (nodes are in
     // depth-first order, each range split at its middle), so they are not stored.
-    using Node = Box;
-    static std::array<Vec3, 3> axes_of(const Node& node);
-    static int classify(const Node& node, const Frustum& frustum, double radius);
+    static std::array<Vec3, 3> axes_of(const Box& node);
+    static int classify(const Box& node, const Frustum& frustum, double radius);
     static bool splits(uint32_t first, uint32_t last, int depth);
     /// Nodes of the subtree over points first..last at `depth`.
     static uint32_t subtree_nodes(uint32_t first, uint32_t last, int depth);
@@ -89,7 +88,7 @@ private:
 
     std::vector<uint16_t> points_;
     Vec3 origin_{0, 0, 0}, step_{0, 0, 0};
-    std::vector<Node> nodes_;
+    std::vector<Box> nodes_;
     /// Time of the last point, or of the segments' end when a point is given.
     double end_of(uint32_t last_point) const;
 
