@@ -96,6 +96,7 @@ void bind_query(py::module_& m) {
                 return count;
             },
             py::arg("library"), py::arg("threads") = 0, py::arg("limit") = 0,
+            py::keep_alive<1, 2>(),  // the index reads the library's polylines, which it does not copy
             "Index the library's worlds not indexed yet, at most `limit` of them (0: all) in file order, on\n"
             "`threads` threads (0: all); returns how many. Runs without the GIL, so a Python thread can fill\n"
             "the index while queries (which see the worlds indexed so far) and library polls go on.")

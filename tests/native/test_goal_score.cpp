@@ -31,7 +31,7 @@ QueryBox box(double x0, double x1, double y0, double y1, std::vector<uint32_t> b
     return b;
 }
 
-// Paths are stored quantized to 1/65535 of their extent: times of entry are exact to about 1e-4 s.
+// Entry times are where the 30 Hz polyline enters, which is linear between samples.
 constexpr double kTimeTolerance = 1e-3;
 
 // A path through (x, y) waypoints at 1 waypoint per second, sampled at 30 Hz (stride 4 of 120 Hz).

@@ -11,18 +11,20 @@ namespace mwb {
 namespace {
 
 // A sphere around a whole path: a cheap first rejection before the tree.
-std::array<float, 4> bounding_sphere(const std::vector<float>& points) {
-    const size_t n = points.size() / 3;
+std::array<float, 4> bounding_sphere(const PathTree& path) {
+    const size_t n = path.point_count();
     if (n == 0) return {0, 0, 0, -1};
-    float lo[3] = {points[0], points[1], points[2]}, hi[3] = {points[0], points[1], points[2]};
-    for (size_t k = 0; k < n; ++k)
+    Vec3 lo = path.point(0), hi = lo;
+    for (size_t k = 1; k < n; ++k) {
+        const Vec3 p = path.point(k);
         for (int a = 0; a < 3; ++a) {
-            lo[a] = std::min(lo[a], points[3 * k + a]);
-            hi[a] = std::max(hi[a], points[3 * k + a]);
+            lo[a] = std::min(lo[a], p[a]);
+            hi[a] = std::max(hi[a], p[a]);
         }
-    const Vec3 c{(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0, (lo[2] + hi[2]) / 2.0};
+    }
+    const Vec3 c = scale(add(lo, hi), 0.5);
     double r = 0;
-    for (size_t k = 0; k < n; ++k) r = std::max(r, norm(sub({points[3 * k], points[3 * k + 1], points[3 * k + 2]}, c)));
+    for (size_t k = 0; k < n; ++k) r = std::max(r, norm(sub(path.point(k), c)));
     return {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2]),
             static_cast<float>(r * (1 + 1e-6) + 1e-6)};
 }
@@ -41,11 +43,18 @@ PathIndex::PathIndex(std::vector<double> body_radii_m) : body_radii_m_(std::move
 std::unique_ptr<PathIndex::World> PathIndex::build_world(IndexedWorldInput&& input) {
     auto world = std::make_unique<World>();
     world->world_index = input.world_index;
-    world->paths.reserve(input.polylines.size());
-    for (std::vector<float>& polyline : input.polylines) {
-        const std::array<float, 4> sphere = bounding_sphere(polyline);
-        world->paths.emplace_back(std::move(polyline), input.stride, input.last_frame, input.record_hz,
-                                  input.hold_until_s);
+    const bool borrowed = !input.borrowed.empty();
+    const size_t count = borrowed ? input.borrowed.size() : input.polylines.size();
+    world->paths.reserve(count);
+    world->roots.reserve(count);
+    for (size_t b = 0; b < count; ++b) {
+        if (borrowed)
+            world->paths.emplace_back(input.borrowed[b], input.stride, input.last_frame, input.record_hz,
+                                      input.hold_until_s);
+        else
+            world->paths.emplace_back(std::move(input.polylines[b]), input.stride, input.last_frame, input.record_hz,
+                                      input.hold_until_s);
+        const std::array<float, 4> sphere = bounding_sphere(world->paths.back());
         world->roots.push_back({sphere, sphere[3] < 0 ? PathTree::Box{} : world->paths.back().root_box()});
     }
     world->final_orientations = std::move(input.final_orientations);
@@ -64,11 +73,15 @@ void PathIndex::add_worlds(std::vector<IndexedWorldInput> worlds, int threads) {
                      worlds.end());
     }
     // A world may have fewer paths than the scene has bodies: bodies added after it was made.
-    for (const IndexedWorldInput& w : worlds)
-        if (w.polylines.size() > body_radii_m_.size())
-            throw std::invalid_argument("world " + std::to_string(w.world_index) + " has " +
-                                        std::to_string(w.polylines.size()) + " paths, the index " +
-                                        std::to_string(body_radii_m_.size()) + " bodies");
+    for (const IndexedWorldInput& w : worlds) {
+        const size_t paths = std::max(w.polylines.size(), w.borrowed.size());
+        if (!w.polylines.empty() && !w.borrowed.empty())
+            throw std::invalid_argument("world " + std::to_string(w.world_index) +
+                                        " has both its own and borrowed paths");
+        if (paths > body_radii_m_.size())
+            throw std::invalid_argument("world " + std::to_string(w.world_index) + " has " + std::to_string(paths) +
+                                        " paths, the index " + std::to_string(body_radii_m_.size()) + " bodies");
+    }
     std::vector<std::unique_ptr<World>> built(worlds.size());
     const int thread_count = threads > 0 ? threads : omp_get_max_threads();
     const auto count = static_cast<long long>(worlds.size());

@@ -35,7 +35,11 @@ struct IndexedWorldInput {
     double record_hz = 120;
     /// The run's end, seconds: a world that ended earlier (at rest) holds its final pose up to it.
     double hold_until_s = 0;
-    std::vector<std::vector<float>> polylines;  ///< per body, flat (points, 3)
+    std::vector<std::vector<float>> polylines;  ///< per body, flat (points, 3); the index keeps them
+    /// Instead of polylines: per body, points owned elsewhere (the library's polylines, drawn
+    /// from the same memory), which must stay unchanged while the index lives. The index then
+    /// holds only its boxes.
+    std::vector<PathPoints> borrowed;
     std::vector<Quat> final_orientations;       ///< per body
     std::vector<std::string> metric_names;
     std::vector<std::vector<double>> metric_values;  ///< [metric][body]

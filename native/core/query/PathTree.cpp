@@ -105,35 +105,39 @@ uint32_t PathTree::subtree_nodes(uint32_t first, uint32_t last, int depth) {
 
 PathTree::PathTree(std::vector<float> points, uint32_t stride, uint32_t last_frame, double record_hz,
                    double hold_until_s)
-    : stride_(std::max<uint32_t>(1, stride)), last_frame_(last_frame), record_hz_(record_hz) {
-    quantize(points);
-    if (point_count() > 0) {
-        hold_end_s_ = std::max(time_of(point_count() - 1), hold_until_s);
-        std::vector<Vec3> stored(point_count());
-        for (size_t k = 0; k < stored.size(); ++k) stored[k] = point(k);
-        build(stored, 0, static_cast<uint32_t>(point_count() - 1), 0);
-    }
+    : owned_(std::move(points)),
+      points_(owned_.data()),
+      point_count_(static_cast<uint32_t>(owned_.size() / 3)),
+      stride_(std::max<uint32_t>(1, stride)),
+      last_frame_(last_frame),
+      record_hz_(record_hz) {
+    build_tree(hold_until_s);
 }
 
-void PathTree::quantize(const std::vector<float>& points) {
-    const size_t n = points.size() / 3;
-    points_.resize(n * 3);
-    if (n == 0) return;
-    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-    for (size_t k = 0; k < n; ++k)
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = std::min(lo[a], double(points[3 * k + a]));
-            hi[a] = std::max(hi[a], double(points[3 * k + a]));
-        }
-    for (int a = 0; a < 3; ++a) {
-        origin_[a] = lo[a];
-        step_[a] = (hi[a] - lo[a]) / 65535.0;
-        const double per_step = step_[a] > 0 ? 1 / step_[a] : 0;
-        // In [0, 65535.5]: the conversion's truncation rounds to the nearest step, clamped.
-        for (size_t k = 0; k < n; ++k)
-            points_[3 * k + a] =
-                static_cast<uint16_t>(std::min(65535.0, (points[3 * k + a] - lo[a]) * per_step + 0.5));
-    }
+PathTree::PathTree(PathPoints points, uint32_t stride, uint32_t last_frame, double record_hz, double hold_until_s)
+    : points_(points.xyz),
+      point_count_(points.count),
+      stride_(std::max<uint32_t>(1, stride)),
+      last_frame_(last_frame),
+      record_hz_(record_hz) {
+    build_tree(hold_until_s);
+}
+
+PathTree::PathTree(const PathTree& other)
+    : owned_(other.owned_),
+      points_(other.owned_.empty() ? other.points_ : owned_.data()),
+      point_count_(other.point_count_),
+      nodes_(other.nodes_),
+      stride_(other.stride_),
+      last_frame_(other.last_frame_),
+      record_hz_(other.record_hz_),
+      hold_end_s_(other.hold_end_s_) {}
+
+void PathTree::build_tree(double hold_until_s) {
+    if (point_count_ == 0) return;
+    hold_end_s_ = std::max(time_of(point_count_ - 1), hold_until_s);
+    nodes_.reserve(subtree_nodes(0, point_count_ - 1, 0));
+    build(0, point_count_ - 1, 0);
 }
 
 double PathTree::end_of(uint32_t last_point) const {
@@ -145,19 +149,19 @@ double PathTree::time_of(size_t k) const {
 }
 
 size_t PathTree::memory_bytes() const {
-    return sizeof(*this) + points_.capacity() * sizeof(uint16_t) + nodes_.capacity() * sizeof(Box);
+    return sizeof(*this) + owned_.capacity() * sizeof(float) + nodes_.capacity() * sizeof(Box);
 }
 
-void PathTree::build(const std::vector<Vec3>& points, uint32_t first, uint32_t last, int depth) {
+void PathTree::build(uint32_t first, uint32_t last, int depth) {
     const size_t index = nodes_.size();
     nodes_.push_back({});
     // Principal axes of the points (mean and covariance in one pass), then the box of their
     // extents along them.
     Vec3 sum{0, 0, 0};
     std::array<double, 6> products{};  // xx, xy, xz, yy, yz, zz
-    const Vec3 origin = points[first];  // offsets from a path point keep the sums well conditioned
+    const Vec3 origin = point(first);  // offsets from a path point keep the sums well conditioned
     for (uint32_t k = first; k <= last; ++k) {
-        const Vec3 d = sub(points[k], origin);
+        const Vec3 d = sub(point(k), origin);
         sum = add(sum, d);
         products[0] += d[0] * d[0];
         products[1] += d[0] * d[1];
@@ -181,7 +185,7 @@ void PathTree::build(const std::vector<Vec3>& points, uint32_t first, uint32_t l
     const Vec3 mean = add(origin, mean_offset);
     Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
     for (uint32_t k = first; k <= last; ++k) {
-        const Vec3 d = sub(points[k], mean);
+        const Vec3 d = sub(point(k), mean);
         for (int a = 0; a < 3; ++a) {
             const double along = dot(d, axes[a]);
             lo[a] = std::min(lo[a], along);
@@ -201,8 +205,8 @@ void PathTree::build(const std::vector<Vec3>& points, uint32_t first, uint32_t l
     nodes_[index] = node;
     if (splits(first, last, depth)) {
         const uint32_t middle = first + (last - first) / 2;  // children share the middle point
-        build(points, first, middle, depth + 1);
-        build(points, middle, last, depth + 1);
+        build(first, middle, depth + 1);
+        build(middle, last, depth + 1);
     }
 }
 

@@ -1,6 +1,8 @@
 #pragma once
 // One body's centre-of-mass path (a polyline) in an oriented-bounding-box tree of depth <= 3
-// with runs of segments at the leaves. The tree owns the polyline: nothing else keeps it.
+// with runs of segments at the leaves. The tree keeps only its boxes: the points it tests at the
+// leaves are either its own copy or borrowed from whoever drew them (the library's polylines), so
+// ten thousand worlds do not hold every path twice.
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -8,6 +10,12 @@
 #include "query/Frustum.h"
 
 namespace mwb {
+
+/// A path's points owned elsewhere: flat (count, 3) float32.
+struct PathPoints {
+    const float* xyz = nullptr;
+    uint32_t count = 0;
+};
 
 /// A time interval in seconds; the whole path when empty() (lo > hi).
 struct TimeWindow {
@@ -25,11 +33,18 @@ public:
         std::array<float, 3> half_extents;
     };
 
-    /// Builds the tree over `points` (flat (n, 3), float32) where point k is at time
-    /// min(k·stride, last_frame) / record_hz. The last point is held from its time up to
+    /// Builds the tree over `points` (flat (n, 3), float32), which it keeps, where point k is at
+    /// time min(k·stride, last_frame) / record_hz. The last point is held from its time up to
     /// `hold_until_s` (a world that came to rest before the run's end stays where it rests).
     PathTree(std::vector<float> points, uint32_t stride, uint32_t last_frame, double record_hz,
              double hold_until_s = 0);
+    /// The same over borrowed points, which must outlive the tree unchanged.
+    PathTree(PathPoints points, uint32_t stride, uint32_t last_frame, double record_hz, double hold_until_s = 0);
+    PathTree(PathTree&& other) noexcept = default;  // a moved vector keeps its buffer: points_ stays valid
+    PathTree& operator=(PathTree&& other) noexcept = default;
+    /// A copy of a tree that owns its points owns a copy of them.
+    PathTree(const PathTree& other);
+    PathTree& operator=(const PathTree&) = delete;
 
     /// Whether the path comes within `radius` of the frustum during `window` (whole path if
     /// the window is empty): whether it has a first touch. Uses the tree; the answer equals
@@ -53,16 +68,13 @@ public:
     /// touch it at any time, exactly as the tree would answer.
     static bool box_outside(const Box& box, const Frustum& frustum, double radius);
 
-    size_t point_count() const { return points_.size() / 3; }
-    /// Point k as stored: quantized to 16 bits per axis within the path's bounding box (about
-    /// 0.3 mm over 20 m). Tree and brute force both see exactly these points.
-    Vec3 point(size_t k) const {
-        return {origin_[0] + step_[0] * points_[3 * k], origin_[1] + step_[1] * points_[3 * k + 1],
-                origin_[2] + step_[2] * points_[3 * k + 2]};
-    }
+    size_t point_count() const { return point_count_; }
+    /// Point k as given. Tree and brute force both see exactly these points.
+    Vec3 point(size_t k) const { return {points_[3 * k], points_[3 * k + 1], points_[3 * k + 2]}; }
     double time_of(size_t k) const;
     /// Time up to which the path has a pose: its last point's time, or later while that pose is held.
     double end_time_s() const { return hold_end_s_; }
+    /// Bytes the tree holds: its boxes, and its points only when it owns them.
     size_t memory_bytes() const;
 
 private:
@@ -76,9 +88,9 @@ private:
     /// Nodes of the subtree over points first..last at `depth`.
     static uint32_t subtree_nodes(uint32_t first, uint32_t last, int depth);
 
-    void quantize(const std::vector<float>& points);
-    /// Appends the nodes over points first..last (`points`: this path's stored points, decoded).
-    void build(const std::vector<Vec3>& points, uint32_t first, uint32_t last, int depth);
+    void build_tree(double hold_until_s);
+    /// Appends the nodes over points first..last.
+    void build(uint32_t first, uint32_t last, int depth);
     double node_first_touch(uint32_t node, uint32_t first, uint32_t last, int depth, const Frustum& frustum,
                             double t_lo, double t_hi, double radius) const;
     /// Earliest touching time over segments first..last (and the held pose after the last point),
@@ -86,8 +98,9 @@ private:
     double segments_first_touch(uint32_t first, uint32_t last, const Frustum& frustum, double t_lo, double t_hi,
                                 double radius) const;
 
-    std::vector<uint16_t> points_;
-    Vec3 origin_{0, 0, 0}, step_{0, 0, 0};
+    std::vector<float> owned_;  ///< empty when the points are borrowed
+    const float* points_ = nullptr;
+    uint32_t point_count_ = 0;
     std::vector<Box> nodes_;
     /// Time of the last point, or of the segments' end when a point is given.
     double end_of(uint32_t last_point) const;

@@ -17,11 +17,11 @@ IndexedWorldInput indexed_world_input(const LibraryReader& reader, const StoredW
     const size_t per_path = size_t{w.polyline_points} * 3;
     for (size_t t = 0; t < w.tracks.size(); ++t) {
         if (!w.tracks[t].present) {
-            in.polylines.emplace_back();
+            in.borrowed.emplace_back();
             in.final_orientations.push_back({1, 0, 0, 0});
             continue;
         }
-        in.polylines.emplace_back(w.polyline.begin() + t * per_path, w.polyline.begin() + (t + 1) * per_path);
+        in.borrowed.push_back({w.polyline.data() + t * per_path, w.polyline_points});
         in.final_orientations.push_back(decode_pose(w, t, w.frame_count - 1).rotation);
     }
     for (const MetricValues& m : w.metrics) {

@@ -6,7 +6,9 @@
 namespace mwb {
 
 /// The index input of `world`, which `reader` read with polylines (ReaderOptions::polyline_hz > 0).
-/// Bodies the world does not have get no path. Throws std::invalid_argument without polylines.
+/// The index borrows the world's polylines: the reader must outlive it (a reader never changes or
+/// drops a world it has read). Bodies the world does not have get no path. Throws
+/// std::invalid_argument without polylines.
 IndexedWorldInput indexed_world_input(const LibraryReader& reader, const StoredWorld& world);
 
 }  // namespace mwb
