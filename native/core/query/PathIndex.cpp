@@ -136,9 +136,11 @@ bool PathIndex::world_satisfies(const World& world, const QueryBox& box, bool br
         // box.
         if (body >= world.roots.size() || world.roots[body].sphere[3] < 0) continue;
         const double radius = box.swept ? body_radii_m_[body] : 0.0;
-        if (!brute_force && (sphere_outside(box.frustum, world.roots[body].sphere, radius) ||
-                             PathTree::box_outside(world.roots[body].box, box.frustum, radius)))
-            continue;
+        if (!brute_force) {
+            if (sphere_outside(box.frustum, world.roots[body].sphere, radius)) continue;
+            __builtin_prefetch(&world.paths[body]);  // loads while the root box is tested
+            if (PathTree::box_outside(world.roots[body].box, box.frustum, radius)) continue;
+        }
         const PathTree& path = world.paths[body];
         if (brute_force ? path.touches_brute_force(box.frustum, box.window, radius)
                         : path.touches(box.frustum, box.window, radius)) {
@@ -170,6 +172,14 @@ QueryResult PathIndex::query(const std::vector<QueryBox>& boxes, uint64_t genera
             superseded.store(true, std::memory_order_relaxed);
         if (superseded.load(std::memory_order_relaxed)) continue;
         const World& world = *worlds[static_cast<size_t>(k)];
+        // The query waits on memory, not arithmetic: start loading the next worlds' roots (and the
+        // world after's object, which says where its roots are) while this one is tested.
+        if (k + 2 < count) __builtin_prefetch(worlds[static_cast<size_t>(k) + 2]);
+        if (k + 1 < count) {
+            const World& next = *worlds[static_cast<size_t>(k) + 1];
+            const char* roots = reinterpret_cast<const char*>(next.roots.data());
+            for (int line = 0; line < 4; ++line) __builtin_prefetch(roots + 64 * line);
+        }
         uint32_t met = 0;
         if (ordered) met = score_goal(world.paths, body_radii_m_, boxes, order, false).boxes_met;
         else

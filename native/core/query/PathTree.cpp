@@ -220,7 +220,19 @@ bool PathTree::touches_brute_force(const Frustum& frustum, const TimeWindow& win
 
 double PathTree::segments_first_touch(uint32_t first, uint32_t last, const Frustum& frustum, double t_lo,
                                       double t_hi, double radius) const {
+    // Each point's side of every plane is found once (neighbouring segments share it): a segment
+    // with both ends beyond one plane cannot touch, which is how Frustum::first_touch would answer.
+    const auto outside = [&](uint32_t k) {
+        const Vec3 p = point(k);
+        unsigned bits = 0;
+        for (size_t i = 0; i < frustum.planes.size(); ++i) bits |= unsigned(frustum.planes[i].distance(p) + radius < 0) << i;
+        return bits;
+    };
+    unsigned outside_next = first < last ? outside(first) : 0;
     for (uint32_t k = first; k < last; ++k) {
+        const unsigned outside_here = outside_next;
+        outside_next = outside(k + 1);
+        if (outside_here & outside_next) continue;
         const double ta = time_of(k), tb = time_of(k + 1);
         if (tb < t_lo || ta > t_hi) continue;
         // The part of the segment inside the time window (linear in time between samples).
