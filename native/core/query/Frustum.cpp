@@ -84,17 +84,19 @@ double Frustum::view_relative_distance(const Vec3& p, double radius) const {
 }
 
 int Frustum::classify_box(const Vec3& center, const std::array<Vec3, 3>& axes, const Vec3& half_extents,
-                          double radius) const {
-    bool inside = true;
-    for (const Plane& plane : planes) {
+                          double radius, unsigned* crossing) const {
+    unsigned not_inside = 0;
+    for (size_t i = 0; i < planes.size(); ++i) {
+        const Plane& plane = planes[i];
         const double reach = std::fabs(dot(plane.normal, axes[0])) * half_extents[0] +
                              std::fabs(dot(plane.normal, axes[1])) * half_extents[1] +
                              std::fabs(dot(plane.normal, axes[2])) * half_extents[2] + radius;
         const double s = plane.distance(center);
         if (s < -reach) return -1;
-        if (s < reach) inside = false;
+        if (s < reach) not_inside |= 1u << i;
     }
-    return inside ? 1 : 0;
+    if (crossing) *crossing = not_inside;
+    return not_inside == 0 ? 1 : 0;
 }
 
 }  // namespace mwb

@@ -15,7 +15,7 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // Closeness stays below 1 so that meeting a box always counts for more than nearly meeting it.
 constexpr double kMaxCloseness = 0.999;
 
-bool has_path(const std::vector<PathTree>& paths, uint32_t body) {
+bool has_path(const std::vector<PathView>& paths, uint32_t body) {
     return body < paths.size() && paths[body].point_count() > 0;
 }
 
@@ -26,7 +26,7 @@ double radius_of(const QueryBox& box, const std::vector<double>& radii, uint32_t
 // Indices of the path's samples within [lo, hi], plus the held last pose when the hold reaches
 // into the window (the last point again).
 template <typename Visit>
-void visit_samples(const PathTree& path, double lo, double hi, Visit&& visit) {
+void visit_samples(const PathView& path, double lo, double hi, Visit&& visit) {
     const size_t n = path.point_count();
     for (size_t k = 0; k < n; ++k) {
         const double t = path.time_of(k);
@@ -36,13 +36,13 @@ void visit_samples(const PathTree& path, double lo, double hi, Visit&& visit) {
     if (last < lo && path.end_time_s() >= lo) visit(n - 1, lo);
 }
 
-void score_positive_miss(const std::vector<PathTree>& paths, const std::vector<double>& radii, const QueryBox& box,
+void score_positive_miss(const std::vector<PathView>& paths, const std::vector<double>& radii, const QueryBox& box,
                          double lo, double hi, GoalScore& score) {
     double nearest = kInfinity;
     uint32_t nearest_body = 0;
     for (uint32_t body : box.bodies) {
         if (!has_path(paths, body)) continue;
-        const PathTree& path = paths[body];
+        const PathView& path = paths[body];
         const double radius = radius_of(box, radii, body);
         visit_samples(path, lo, hi, [&](size_t k, double) {
             const double d = box.frustum.view_relative_distance(path.point(k), radius);
@@ -60,7 +60,7 @@ void score_positive_miss(const std::vector<PathTree>& paths, const std::vector<d
     score.failing_bodies = {nearest_body};
     // Where it went wrong: the first moment the body was already about as near as it ever got in
     // the window (a body that stopped short at 3 s failed then, not when the window opened).
-    const PathTree& path = paths[nearest_body];
+    const PathView& path = paths[nearest_body];
     const double radius = radius_of(box, radii, nearest_body);
     const double near_enough = nearest * 1.05 + 0.02;
     for (size_t k = 0; k < path.point_count() && path.time_of(k) <= hi; ++k)
@@ -71,7 +71,7 @@ void score_positive_miss(const std::vector<PathTree>& paths, const std::vector<d
     score.failure_time_s = std::max(lo, 0.0);
 }
 
-void score_negative_miss(const std::vector<PathTree>& paths, const std::vector<double>& radii, const QueryBox& box,
+void score_negative_miss(const std::vector<PathView>& paths, const std::vector<double>& radii, const QueryBox& box,
                          double lo, double hi, GoalScore& score) {
     // Share of the window's samples at which some body is inside (all bodies share one clock).
     std::vector<std::pair<double, uint32_t>> entries;
@@ -79,7 +79,7 @@ void score_negative_miss(const std::vector<PathTree>& paths, const std::vector<d
     std::vector<double> inside_times;
     for (uint32_t body : box.bodies) {
         if (!has_path(paths, body)) continue;
-        const PathTree& path = paths[body];
+        const PathView& path = paths[body];
         const double radius = radius_of(box, radii, body);
         const double entry = path.first_touch_time(box.frustum, {lo, hi}, radius);
         if (entry >= 0) entries.emplace_back(entry, body);
@@ -130,7 +130,7 @@ std::vector<size_t> goal_order(const std::vector<QueryBox>& boxes) {
     return order;
 }
 
-GoalScore score_goal(const std::vector<PathTree>& paths, const std::vector<double>& body_radii_m,
+GoalScore score_goal(const std::vector<PathView>& paths, const std::vector<double>& body_radii_m,
                      const std::vector<QueryBox>& boxes, const std::vector<size_t>& order, bool with_closeness) {
     GoalScore score;
     score.met.assign(boxes.size(), 0);

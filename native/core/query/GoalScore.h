@@ -39,10 +39,10 @@ struct GoalScore {
     double value() const { return boxes_met + closeness; }
 };
 
-/// Scores one world given its body paths (one PathTree per scene body, empty for bodies it lacks)
+/// Scores one world given its body paths (one PathView per scene body, empty for bodies it lacks)
 /// and each body's bounding radius (for swept boxes). `order` is goal_order(boxes). Without
 /// `with_closeness` only the met flags, times and count are computed (what a query needs).
-GoalScore score_goal(const std::vector<PathTree>& paths, const std::vector<double>& body_radii_m,
+GoalScore score_goal(const std::vector<PathView>& paths, const std::vector<double>& body_radii_m,
                      const std::vector<QueryBox>& boxes, const std::vector<size_t>& order,
                      bool with_closeness = true);
 

@@ -11,12 +11,12 @@ namespace mwb {
 namespace {
 
 // A sphere around a whole path: a cheap first rejection before the tree.
-std::array<float, 4> bounding_sphere(const PathTree& path) {
-    const size_t n = path.point_count();
-    if (n == 0) return {0, 0, 0, -1};
-    Vec3 lo = path.point(0), hi = lo;
-    for (size_t k = 1; k < n; ++k) {
-        const Vec3 p = path.point(k);
+std::array<float, 4> bounding_sphere(PathPoints points) {
+    if (points.count == 0) return {0, 0, 0, -1};
+    const auto point = [&](size_t k) { return Vec3{points.xyz[3 * k], points.xyz[3 * k + 1], points.xyz[3 * k + 2]}; };
+    Vec3 lo = point(0), hi = lo;
+    for (size_t k = 1; k < points.count; ++k) {
+        const Vec3 p = point(k);
         for (int a = 0; a < 3; ++a) {
             lo[a] = std::min(lo[a], p[a]);
             hi[a] = std::max(hi[a], p[a]);
@@ -24,7 +24,7 @@ std::array<float, 4> bounding_sphere(const PathTree& path) {
     }
     const Vec3 c = scale(add(lo, hi), 0.5);
     double r = 0;
-    for (size_t k = 0; k < n; ++k) r = std::max(r, norm(sub(path.point(k), c)));
+    for (size_t k = 0; k < points.count; ++k) r = std::max(r, norm(sub(point(k), c)));
     return {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2]),
             static_cast<float>(r * (1 + 1e-6) + 1e-6)};
 }
@@ -40,22 +40,48 @@ bool sphere_outside(const Frustum& f, const std::array<float, 4>& s, double radi
 
 PathIndex::PathIndex(std::vector<double> body_radii_m) : body_radii_m_(std::move(body_radii_m)) {}
 
+PathView PathIndex::World::path(uint32_t body) const {
+    if (!has_path(body)) return {};
+    const Root& root = roots[body];
+    return PathView(boxes.data() + root.first_box, {root.points, root.point_count}, stride, last_frame, record_hz,
+                    hold_until_s);
+}
+
+std::vector<PathView> PathIndex::World::paths() const {
+    std::vector<PathView> out(roots.size());
+    for (uint32_t body = 0; body < roots.size(); ++body) out[body] = path(body);
+    return out;
+}
+
 std::unique_ptr<PathIndex::World> PathIndex::build_world(IndexedWorldInput&& input) {
     auto world = std::make_unique<World>();
     world->world_index = input.world_index;
+    world->stride = std::max<uint32_t>(1, input.stride);
+    world->last_frame = input.last_frame;
+    world->record_hz = input.record_hz;
+    world->hold_until_s = input.hold_until_s;
     const bool borrowed = !input.borrowed.empty();
     const size_t count = borrowed ? input.borrowed.size() : input.polylines.size();
-    world->paths.reserve(count);
-    world->roots.reserve(count);
+    std::vector<PathPoints> points(count);
+    if (borrowed) {
+        points = input.borrowed;
+    } else {
+        world->held_points = std::move(input.polylines);
+        for (size_t b = 0; b < count; ++b)
+            points[b] = {world->held_points[b].data(), static_cast<uint32_t>(world->held_points[b].size() / 3)};
+    }
+    uint32_t box_total = 0;
+    for (const PathPoints& p : points) box_total += PathView::box_count(p.count);
+    world->boxes.reserve(box_total);
+    world->roots.resize(count);
     for (size_t b = 0; b < count; ++b) {
-        if (borrowed)
-            world->paths.emplace_back(input.borrowed[b], input.stride, input.last_frame, input.record_hz,
-                                      input.hold_until_s);
-        else
-            world->paths.emplace_back(std::move(input.polylines[b]), input.stride, input.last_frame, input.record_hz,
-                                      input.hold_until_s);
-        const std::array<float, 4> sphere = bounding_sphere(world->paths.back());
-        world->roots.push_back({sphere, sphere[3] < 0 ? PathTree::Box{} : world->paths.back().root_box()});
+        World::Root& root = world->roots[b];
+        root.sphere = bounding_sphere(points[b]);
+        root.first_box = static_cast<uint32_t>(world->boxes.size());
+        root.points = points[b].xyz;
+        root.point_count = points[b].count;
+        PathView::build_boxes(points[b], world->boxes);
+        root.box = points[b].count > 0 ? world->boxes[root.first_box] : PathBox{};
     }
     world->final_orientations = std::move(input.final_orientations);
     world->metric_names = std::move(input.metric_names);
@@ -111,9 +137,9 @@ size_t PathIndex::memory_bytes() const {
     std::lock_guard<std::mutex> lock(mutex_);
     size_t bytes = sizeof(*this);
     for (const auto& w : worlds_) {
-        bytes += sizeof(World) + w->roots.capacity() * sizeof(World::Root) +
+        bytes += sizeof(World) + w->roots.capacity() * sizeof(World::Root) + w->boxes.capacity() * sizeof(PathBox) +
                  w->final_orientations.capacity() * sizeof(Quat);
-        for (const PathTree& p : w->paths) bytes += p.memory_bytes();
+        for (const auto& p : w->held_points) bytes += p.capacity() * sizeof(float);
         for (const auto& m : w->metric_values) bytes += m.capacity() * sizeof(double);
     }
     return bytes;
@@ -132,16 +158,19 @@ bool PathIndex::world_satisfies(const World& world, const QueryBox& box, bool br
     bool entered = false;
     for (uint32_t body : box.bodies) {
         if (body >= body_radii_m_.size()) throw std::out_of_range("query box names body " + std::to_string(body));
-        // A body the world does not have (no path: a sphere of negative radius) never enters a
-        // box.
-        if (body >= world.roots.size() || world.roots[body].sphere[3] < 0) continue;
+        // A body the world does not have (no path) never enters a box.
+        if (!world.has_path(body)) continue;
+        const World::Root& root = world.roots[body];
         const double radius = box.swept ? body_radii_m_[body] : 0.0;
         if (!brute_force) {
-            if (sphere_outside(box.frustum, world.roots[body].sphere, radius)) continue;
-            __builtin_prefetch(&world.paths[body]);  // loads while the root box is tested
-            if (PathTree::box_outside(world.roots[body].box, box.frustum, radius)) continue;
+            if (sphere_outside(box.frustum, root.sphere, radius)) continue;
+            // The tree's first boxes load while the root box is tested.
+            const char* tree = reinterpret_cast<const char*>(world.boxes.data() + root.first_box);
+            __builtin_prefetch(tree);
+            __builtin_prefetch(tree + 64);
+            if (PathView::box_outside(root.box, box.frustum, radius)) continue;
         }
-        const PathTree& path = world.paths[body];
+        const PathView path = world.path(body);
         if (brute_force ? path.touches_brute_force(box.frustum, box.window, radius)
                         : path.touches(box.frustum, box.window, radius)) {
             entered = true;
@@ -181,7 +210,7 @@ QueryResult PathIndex::query(const std::vector<QueryBox>& boxes, uint64_t genera
             for (int line = 0; line < 4; ++line) __builtin_prefetch(roots + 64 * line);
         }
         uint32_t met = 0;
-        if (ordered) met = score_goal(world.paths, body_radii_m_, boxes, order, false).boxes_met;
+        if (ordered) met = score_goal(world.paths(), body_radii_m_, boxes, order, false).boxes_met;
         else
             for (const QueryBox& box : boxes) met += world_satisfies(world, box, brute_force);
         satisfied[static_cast<size_t>(k)] = met;
@@ -234,7 +263,7 @@ std::vector<std::pair<uint64_t, double>> PathIndex::rank(const std::string& metr
         size_t counted = 0;
         for (size_t k = 0; k < bodies.size(); ++k) {
             // A world is ranked over the bodies it has (bodies can be added and removed).
-            if (bodies[k] >= world.paths.size() || world.paths[bodies[k]].point_count() == 0) continue;
+            if (!world.has_path(bodies[k])) continue;
             const double v = to_goal ? quat_angle_between(world.final_orientations[bodies[k]], (*goals)[k])
                                      : (*values)[bodies[k]];
             value = combine == Combine::Sum ? value + v : std::max(value, v);
@@ -263,7 +292,7 @@ GoalScore PathIndex::score(uint64_t world_index, const std::vector<QueryBox>& bo
                            const std::vector<size_t>& order) const {
     const World* world = find(world_index);
     if (!world) throw std::out_of_range("world " + std::to_string(world_index) + " is not indexed");
-    return score_goal(world->paths, body_radii_m_, boxes, order);
+    return score_goal(world->paths(), body_radii_m_, boxes, order);
 }
 
 double PathIndex::first_time_inside(uint64_t world_index, const std::vector<uint32_t>& bodies, const Frustum& frustum) const {
@@ -272,8 +301,8 @@ double PathIndex::first_time_inside(uint64_t world_index, const std::vector<uint
         double first = -1;
         for (uint32_t body : bodies) {
             if (body >= body_radii_m_.size()) throw std::out_of_range("body " + std::to_string(body) + " is not in the scene");
-            if (body >= world->paths.size()) continue;
-            const double t = world->paths[body].first_time_inside(frustum);
+            if (!world->has_path(body)) continue;
+            const double t = world->path(body).first_time_inside(frustum);
             if (t >= 0 && (first < 0 || t < first)) first = t;
         }
         return first;

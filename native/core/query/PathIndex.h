@@ -96,17 +96,30 @@ public:
 private:
     struct World {
         uint64_t world_index;
-        std::vector<PathTree> paths;
-        /// Per body, side by side: a sphere around the path (centre, radius; negative radius: no
-        /// path) and the tree's root box, so a box over many bodies rarely reaches the trees.
-        struct Root {
+        // The clock every path of the world shares.
+        uint32_t stride, last_frame;
+        double record_hz, hold_until_s;
+        /// Per body, in one cache line: a sphere around the path (centre, radius; negative radius:
+        /// no path), the tree's root box, where its boxes start and where its points are, so a box
+        /// over many bodies rarely loads more than this.
+        struct alignas(64) Root {
             std::array<float, 4> sphere;
-            PathTree::Box box;
+            PathBox box;
+            const float* points;
+            uint32_t first_box;
+            uint32_t point_count;
         };
         std::vector<Root> roots;
+        std::vector<PathBox> boxes;  ///< every path's tree, path after path
+        std::vector<std::vector<float>> held_points;  ///< the points of paths given as polylines
         std::vector<Quat> final_orientations;
         std::vector<std::string> metric_names;
         std::vector<std::vector<double>> metric_values;
+
+        bool has_path(uint32_t body) const { return body < roots.size() && roots[body].point_count > 0; }
+        PathView path(uint32_t body) const;
+        /// One view per body (empty for bodies it lacks).
+        std::vector<PathView> paths() const;
     };
 
     static std::unique_ptr<World> build_world(IndexedWorldInput&& input);

@@ -74,7 +74,7 @@ Quat rotation_onto(const std::array<Vec3, 3>& axes) {
 
 }  // namespace
 
-std::array<Vec3, 3> PathTree::axes_of(const Box& node) {
+std::array<Vec3, 3> PathView::axes_of(const PathBox& node) {
     const Quat q = quat_normalized({node.rotation[0] / 32767.0, node.rotation[1] / 32767.0, node.rotation[2] / 32767.0,
                                     node.rotation[3] / 32767.0});
     const double w = q[0], x = q[1], y = q[2], z = q[3];
@@ -84,77 +84,72 @@ std::array<Vec3, 3> PathTree::axes_of(const Box& node) {
             Vec3{2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)}};
 }
 
-int PathTree::classify(const Box& node, const Frustum& frustum, double radius) {
+int PathView::classify(const PathBox& node, const Frustum& frustum, double radius, unsigned* crossing) {
     return frustum.classify_box({node.center[0], node.center[1], node.center[2]}, axes_of(node),
-                                {node.half_extents[0], node.half_extents[1], node.half_extents[2]}, radius);
+                                {node.half_extents[0], node.half_extents[1], node.half_extents[2]}, radius, crossing);
 }
 
-bool PathTree::box_outside(const Box& box, const Frustum& frustum, double radius) {
+bool PathView::box_outside(const PathBox& box, const Frustum& frustum, double radius) {
     return classify(box, frustum, radius) < 0;
 }
 
-bool PathTree::splits(uint32_t first, uint32_t last, int depth) {
+bool PathView::splits(uint32_t first, uint32_t last, int depth) {
     return depth < kMaxDepth && last - first >= kMinSegmentsToSplit;
 }
 
-uint32_t PathTree::subtree_nodes(uint32_t first, uint32_t last, int depth) {
+uint32_t PathView::subtree_nodes(uint32_t first, uint32_t last, int depth) {
     if (!splits(first, last, depth)) return 1;
     const uint32_t middle = first + (last - first) / 2;
     return 1 + subtree_nodes(first, middle, depth + 1) + subtree_nodes(middle, last, depth + 1);
 }
 
-PathTree::PathTree(std::vector<float> points, uint32_t stride, uint32_t last_frame, double record_hz,
+PathView::PathView(const PathBox* boxes, PathPoints points, uint32_t stride, uint32_t last_frame, double record_hz,
                    double hold_until_s)
-    : owned_(std::move(points)),
-      points_(owned_.data()),
-      point_count_(static_cast<uint32_t>(owned_.size() / 3)),
-      stride_(std::max<uint32_t>(1, stride)),
-      last_frame_(last_frame),
-      record_hz_(record_hz) {
-    build_tree(hold_until_s);
-}
-
-PathTree::PathTree(PathPoints points, uint32_t stride, uint32_t last_frame, double record_hz, double hold_until_s)
-    : points_(points.xyz),
+    : boxes_(boxes),
+      points_(points.xyz),
       point_count_(points.count),
       stride_(std::max<uint32_t>(1, stride)),
       last_frame_(last_frame),
       record_hz_(record_hz) {
-    build_tree(hold_until_s);
+    if (point_count_ > 0) hold_end_s_ = std::max(time_of(point_count_ - 1), hold_until_s);
 }
 
-PathTree::PathTree(const PathTree& other)
-    : owned_(other.owned_),
-      points_(other.owned_.empty() ? other.points_ : owned_.data()),
-      point_count_(other.point_count_),
-      nodes_(other.nodes_),
-      stride_(other.stride_),
-      last_frame_(other.last_frame_),
-      record_hz_(other.record_hz_),
-      hold_end_s_(other.hold_end_s_) {}
-
-void PathTree::build_tree(double hold_until_s) {
-    if (point_count_ == 0) return;
-    hold_end_s_ = std::max(time_of(point_count_ - 1), hold_until_s);
-    nodes_.reserve(subtree_nodes(0, point_count_ - 1, 0));
-    build(0, point_count_ - 1, 0);
+uint32_t PathView::box_count(uint32_t point_count) {
+    return point_count == 0 ? 0 : subtree_nodes(0, point_count - 1, 0);
 }
 
-double PathTree::end_of(uint32_t last_point) const {
+void PathView::build_boxes(PathPoints points, std::vector<PathBox>& out) {
+    if (points.count > 0) build(points, 0, points.count - 1, 0, out);
+}
+
+double PathView::end_of(uint32_t last_point) const {
     return last_point + 1 == point_count() ? hold_end_s_ : time_of(last_point);
 }
 
-double PathTree::time_of(size_t k) const {
+double PathView::time_of(size_t k) const {
     return static_cast<double>(std::min<uint64_t>(uint64_t{k} * stride_, last_frame_)) / record_hz_;
 }
 
-size_t PathTree::memory_bytes() const {
-    return sizeof(*this) + owned_.capacity() * sizeof(float) + nodes_.capacity() * sizeof(Box);
+PathTree::PathTree(std::vector<float> points, uint32_t stride, uint32_t last_frame, double record_hz,
+                   double hold_until_s)
+    : held_points_(std::move(points)) {
+    const PathPoints own{held_points_.data(), static_cast<uint32_t>(held_points_.size() / 3)};
+    held_boxes_.reserve(box_count(own.count));
+    build_boxes(own, held_boxes_);
+    static_cast<PathView&>(*this) = PathView(held_boxes_.data(), own, stride, last_frame, record_hz, hold_until_s);
 }
 
-void PathTree::build(uint32_t first, uint32_t last, int depth) {
-    const size_t index = nodes_.size();
-    nodes_.push_back({});
+PathTree::PathTree(const PathTree& other)
+    : PathView(other), held_points_(other.held_points_), held_boxes_(other.held_boxes_) {
+    rebind(held_boxes_.data(), held_points_.data());
+}
+
+void PathView::build(PathPoints points, uint32_t first, uint32_t last, int depth, std::vector<PathBox>& out) {
+    const auto point = [&](uint32_t k) {
+        return Vec3{points.xyz[3 * k], points.xyz[3 * k + 1], points.xyz[3 * k + 2]};
+    };
+    const size_t index = out.size();
+    out.push_back({});
     // Principal axes of the points (mean and covariance in one pass), then the box of their
     // extents along them.
     Vec3 sum{0, 0, 0};
@@ -178,7 +173,7 @@ void PathTree::build(uint32_t first, uint32_t last, int depth) {
         products[3] - n * mean_offset[1] * mean_offset[1], products[4] - n * mean_offset[1] * mean_offset[2],
         products[2] - n * mean_offset[0] * mean_offset[2], products[4] - n * mean_offset[1] * mean_offset[2],
         products[5] - n * mean_offset[2] * mean_offset[2]};
-    Box node;
+    PathBox node;
     const Quat rotation = rotation_onto(principal_axes(covariance));
     for (int c = 0; c < 4; ++c) node.rotation[c] = static_cast<int16_t>(std::lround(rotation[c] * 32767.0));
     const std::array<Vec3, 3> axes = axes_of(node);
@@ -202,30 +197,33 @@ void PathTree::build(uint32_t first, uint32_t last, int depth) {
     for (int a = 0; a < 3; ++a) half[a] = (hi[a] - lo[a]) / 2 + std::fabs(dot(shift, axes[a]));
     const double reach = norm(half);
     for (int a = 0; a < 3; ++a) node.half_extents[a] = static_cast<float>(half[a] * (1 + 1e-6) + 1e-6 * (1 + reach));
-    nodes_[index] = node;
+    out[index] = node;
     if (splits(first, last, depth)) {
         const uint32_t middle = first + (last - first) / 2;  // children share the middle point
-        build(first, middle, depth + 1);
-        build(middle, last, depth + 1);
+        build(points, first, middle, depth + 1, out);
+        build(points, middle, last, depth + 1, out);
     }
 }
 
-bool PathTree::touches(const Frustum& frustum, const TimeWindow& window, double radius) const {
+bool PathView::touches(const Frustum& frustum, const TimeWindow& window, double radius) const {
     return first_touch_time(frustum, window, radius) >= 0;
 }
 
-bool PathTree::touches_brute_force(const Frustum& frustum, const TimeWindow& window, double radius) const {
+bool PathView::touches_brute_force(const Frustum& frustum, const TimeWindow& window, double radius) const {
     return first_touch_time_brute_force(frustum, window, radius) >= 0;
 }
 
-double PathTree::segments_first_touch(uint32_t first, uint32_t last, const Frustum& frustum, double t_lo,
-                                      double t_hi, double radius) const {
+double PathView::segments_first_touch(uint32_t first, uint32_t last, const Frustum& frustum, double t_lo,
+                                      double t_hi, double radius, unsigned planes) const {
     // Each point's side of every plane is found once (neighbouring segments share it): a segment
     // with both ends beyond one plane cannot touch, which is how Frustum::first_touch would answer.
     const auto outside = [&](uint32_t k) {
         const Vec3 p = point(k);
         unsigned bits = 0;
-        for (size_t i = 0; i < frustum.planes.size(); ++i) bits |= unsigned(frustum.planes[i].distance(p) + radius < 0) << i;
+        for (unsigned rest = planes; rest != 0; rest &= rest - 1) {
+            const int i = __builtin_ctz(rest);
+            bits |= unsigned(frustum.planes[static_cast<size_t>(i)].distance(p) + radius < 0) << i;
+        }
         return bits;
     };
     unsigned outside_next = first < last ? outside(first) : 0;
@@ -250,16 +248,20 @@ double PathTree::segments_first_touch(uint32_t first, uint32_t last, const Frust
     return std::numeric_limits<double>::infinity();
 }
 
-double PathTree::node_first_touch(uint32_t index, uint32_t first, uint32_t last, int depth, const Frustum& frustum,
+double PathView::node_first_touch(uint32_t index, uint32_t first, uint32_t last, int depth, const Frustum& frustum,
                                   double t_lo, double t_hi, double radius) const {
-    const Box& node = nodes_[index];
+    const PathBox& node = boxes_[index];
     const double start = time_of(first), end = end_of(last);
     if (end < t_lo || start > t_hi) return std::numeric_limits<double>::infinity();
-    const int side = classify(node, frustum, radius);
+    const bool leaf = !splits(first, last, depth);
+    // A leaf's points are needed if its box crosses: they load while the box is tested.
+    if (leaf) __builtin_prefetch(points_ + 3 * first);
+    unsigned crossing = 0;
+    const int side = classify(node, frustum, radius, &crossing);
     if (side < 0) return std::numeric_limits<double>::infinity();
     // Wholly inside: the path touches from the first moment of the node within the window.
     if (side > 0) return std::max(start, t_lo);
-    if (!splits(first, last, depth)) return segments_first_touch(first, last, frustum, t_lo, t_hi, radius);
+    if (leaf) return segments_first_touch(first, last, frustum, t_lo, t_hi, radius, crossing);
     // The first child holds the earlier part of the path; the second follows its subtree.
     const uint32_t middle = first + (last - first) / 2;
     const double early = node_first_touch(index + 1, first, middle, depth + 1, frustum, t_lo, t_hi, radius);
@@ -268,15 +270,15 @@ double PathTree::node_first_touch(uint32_t index, uint32_t first, uint32_t last,
                             t_hi, radius);
 }
 
-double PathTree::first_touch_time(const Frustum& frustum, const TimeWindow& window, double radius) const {
-    if (nodes_.empty()) return -1;
+double PathView::first_touch_time(const Frustum& frustum, const TimeWindow& window, double radius) const {
+    if (point_count_ == 0) return -1;
     const double lo = window.empty() ? -std::numeric_limits<double>::infinity() : window.lo_s;
     const double hi = window.empty() ? std::numeric_limits<double>::infinity() : window.hi_s;
     const double t = node_first_touch(0, 0, static_cast<uint32_t>(point_count() - 1), 0, frustum, lo, hi, radius);
     return std::isfinite(t) ? t : -1;
 }
 
-double PathTree::first_touch_time_brute_force(const Frustum& frustum, const TimeWindow& window, double radius) const {
+double PathView::first_touch_time_brute_force(const Frustum& frustum, const TimeWindow& window, double radius) const {
     if (point_count() == 0) return -1;
     const double lo = window.empty() ? -std::numeric_limits<double>::infinity() : window.lo_s;
     const double hi = window.empty() ? std::numeric_limits<double>::infinity() : window.hi_s;
@@ -284,7 +286,7 @@ double PathTree::first_touch_time_brute_force(const Frustum& frustum, const Time
     return std::isfinite(t) ? t : -1;
 }
 
-double PathTree::first_time_inside(const Frustum& frustum) const {
+double PathView::first_time_inside(const Frustum& frustum) const {
     for (size_t k = 0; k < point_count(); ++k) {
         const Vec3 p = point(k);
         if (frustum.touches_segment(p, p, 0, 1, 0)) return time_of(k);
