@@ -162,17 +162,19 @@ bool PathIndex::world_satisfies(const World& world, const QueryBox& box, bool br
         if (!world.has_path(body)) continue;
         const World::Root& root = world.roots[body];
         const double radius = box.swept ? body_radii_m_[body] : 0.0;
+        BoxSide root_side;
         if (!brute_force) {
             if (sphere_outside(box.frustum, root.sphere, radius)) continue;
             // The tree's first boxes load while the root box is tested.
             const char* tree = reinterpret_cast<const char*>(world.boxes.data() + root.first_box);
             __builtin_prefetch(tree);
             __builtin_prefetch(tree + 64);
-            if (PathView::box_outside(root.box, box.frustum, radius)) continue;
+            root_side = PathView::box_side(root.box, box.frustum, radius);
+            if (root_side.side < 0) continue;
         }
         const PathView path = world.path(body);
         if (brute_force ? path.touches_brute_force(box.frustum, box.window, radius)
-                        : path.touches(box.frustum, box.window, radius)) {
+                        : path.touches(box.frustum, box.window, radius, &root_side)) {
             entered = true;
             break;
         }

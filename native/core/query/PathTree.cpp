@@ -84,13 +84,12 @@ std::array<Vec3, 3> PathView::axes_of(const PathBox& node) {
             Vec3{2 * (x * z + w * y), 2 * (y * z - w * x), 1 - 2 * (x * x + y * y)}};
 }
 
-int PathView::classify(const PathBox& node, const Frustum& frustum, double radius, unsigned* crossing) {
-    return frustum.classify_box({node.center[0], node.center[1], node.center[2]}, axes_of(node),
-                                {node.half_extents[0], node.half_extents[1], node.half_extents[2]}, radius, crossing);
-}
-
-bool PathView::box_outside(const PathBox& box, const Frustum& frustum, double radius) {
-    return classify(box, frustum, radius) < 0;
+BoxSide PathView::box_side(const PathBox& box, const Frustum& frustum, double radius) {
+    BoxSide out;
+    out.side = frustum.classify_box({box.center[0], box.center[1], box.center[2]}, axes_of(box),
+                                    {box.half_extents[0], box.half_extents[1], box.half_extents[2]}, radius,
+                                    &out.crossing);
+    return out;
 }
 
 bool PathView::splits(uint32_t first, uint32_t last, int depth) {
@@ -205,8 +204,8 @@ void PathView::build(PathPoints points, uint32_t first, uint32_t last, int depth
     }
 }
 
-bool PathView::touches(const Frustum& frustum, const TimeWindow& window, double radius) const {
-    return first_touch_time(frustum, window, radius) >= 0;
+bool PathView::touches(const Frustum& frustum, const TimeWindow& window, double radius, const BoxSide* root) const {
+    return first_touch_time(frustum, window, radius, root) >= 0;
 }
 
 bool PathView::touches_brute_force(const Frustum& frustum, const TimeWindow& window, double radius) const {
@@ -250,18 +249,21 @@ double PathView::segments_first_touch(uint32_t first, uint32_t last, const Frust
 
 double PathView::node_first_touch(uint32_t index, uint32_t first, uint32_t last, int depth, const Frustum& frustum,
                                   double t_lo, double t_hi, double radius) const {
-    const PathBox& node = boxes_[index];
-    const double start = time_of(first), end = end_of(last);
-    if (end < t_lo || start > t_hi) return std::numeric_limits<double>::infinity();
-    const bool leaf = !splits(first, last, depth);
+    if (end_of(last) < t_lo || time_of(first) > t_hi) return std::numeric_limits<double>::infinity();
     // A leaf's points are needed if its box crosses: they load while the box is tested.
-    if (leaf) __builtin_prefetch(points_ + 3 * first);
-    unsigned crossing = 0;
-    const int side = classify(node, frustum, radius, &crossing);
-    if (side < 0) return std::numeric_limits<double>::infinity();
+    if (!splits(first, last, depth)) __builtin_prefetch(points_ + 3 * first);
+    return classified_first_touch(box_side(boxes_[index], frustum, radius), index, first, last, depth, frustum, t_lo,
+                                  t_hi, radius);
+}
+
+double PathView::classified_first_touch(BoxSide side, uint32_t index, uint32_t first, uint32_t last, int depth,
+                                        const Frustum& frustum, double t_lo, double t_hi, double radius) const {
+    const double start = time_of(first), end = end_of(last);
+    if (side.side < 0 || end < t_lo || start > t_hi) return std::numeric_limits<double>::infinity();
     // Wholly inside: the path touches from the first moment of the node within the window.
-    if (side > 0) return std::max(start, t_lo);
-    if (leaf) return segments_first_touch(first, last, frustum, t_lo, t_hi, radius, crossing);
+    if (side.side > 0) return std::max(start, t_lo);
+    if (!splits(first, last, depth))
+        return segments_first_touch(first, last, frustum, t_lo, t_hi, radius, side.crossing);
     // The first child holds the earlier part of the path; the second follows its subtree.
     const uint32_t middle = first + (last - first) / 2;
     const double early = node_first_touch(index + 1, first, middle, depth + 1, frustum, t_lo, t_hi, radius);
@@ -270,11 +272,14 @@ double PathView::node_first_touch(uint32_t index, uint32_t first, uint32_t last,
                             t_hi, radius);
 }
 
-double PathView::first_touch_time(const Frustum& frustum, const TimeWindow& window, double radius) const {
+double PathView::first_touch_time(const Frustum& frustum, const TimeWindow& window, double radius,
+                                  const BoxSide* root) const {
     if (point_count_ == 0) return -1;
     const double lo = window.empty() ? -std::numeric_limits<double>::infinity() : window.lo_s;
     const double hi = window.empty() ? std::numeric_limits<double>::infinity() : window.hi_s;
-    const double t = node_first_touch(0, 0, static_cast<uint32_t>(point_count() - 1), 0, frustum, lo, hi, radius);
+    const auto last = static_cast<uint32_t>(point_count() - 1);
+    const double t = root ? classified_first_touch(*root, 0, 0, last, 0, frustum, lo, hi, radius)
+                          : node_first_touch(0, 0, last, 0, frustum, lo, hi, radius);
     return std::isfinite(t) ? t : -1;
 }
 

@@ -31,6 +31,13 @@ struct PathBox {
     std::array<float, 3> half_extents;
 };
 
+/// Where a box lies against a frustum: side -1 wholly outside a plane, +1 wholly inside all, 0
+/// otherwise, with a bit per plane (bit i: planes[i]) it is not wholly inside.
+struct BoxSide {
+    int side = 0;
+    unsigned crossing = 0x3f;
+};
+
 class PathView {
 public:
     /// A path without points: it touches nothing.
@@ -49,7 +56,8 @@ public:
     /// Whether the path comes within `radius` of the frustum during `window` (whole path if
     /// the window is empty): whether it has a first touch. Uses the tree; the answer equals
     /// touches_brute_force exactly.
-    bool touches(const Frustum& frustum, const TimeWindow& window, double radius) const;
+    /// `root`: box_side(root_box()) when the caller has it already, so the tree does not test it again.
+    bool touches(const Frustum& frustum, const TimeWindow& window, double radius, const BoxSide* root = nullptr) const;
     /// The same answer by testing every segment; for tests and benchmarks.
     bool touches_brute_force(const Frustum& frustum, const TimeWindow& window, double radius) const;
     /// First time (seconds) the path is inside the frustum, or a negative value if never.
@@ -57,16 +65,17 @@ public:
     /// Earliest time (seconds) within `window` at which the path comes within `radius` of the
     /// frustum, or a negative value if it does not: touches() with the moment it happens (between
     /// samples the path is linear in time). Uses the tree, visiting earlier runs first.
-    double first_touch_time(const Frustum& frustum, const TimeWindow& window, double radius) const;
+    double first_touch_time(const Frustum& frustum, const TimeWindow& window, double radius,
+                            const BoxSide* root = nullptr) const;
     /// The same by testing every segment in order; for tests and benchmarks.
     double first_touch_time_brute_force(const Frustum& frustum, const TimeWindow& window, double radius) const;
 
     /// The root's oriented box, as the tree tests it; only for a path with points. Kept beside
     /// other paths' roots, it decides most queries without touching the tree.
     const PathBox& root_box() const { return boxes_[0]; }
-    /// Whether `box` (grown by `radius`) lies wholly outside the frustum: then the path does not
-    /// touch it at any time, exactly as the tree would answer.
-    static bool box_outside(const PathBox& box, const Frustum& frustum, double radius);
+    /// Where `box` (grown by `radius`) lies: wholly outside the frustum, the path does not touch
+    /// it at any time, exactly as the tree would answer.
+    static BoxSide box_side(const PathBox& box, const Frustum& frustum, double radius);
 
     size_t point_count() const { return point_count_; }
     /// Point k as given. Tree and brute force both see exactly these points.
@@ -88,7 +97,7 @@ private:
     // whether it has children follow from the point count (nodes are in depth-first order, each
     // range split at its middle), so they are not stored.
     static std::array<Vec3, 3> axes_of(const PathBox& node);
-    static int classify(const PathBox& node, const Frustum& frustum, double radius, unsigned* crossing = nullptr);
+
     static bool splits(uint32_t first, uint32_t last, int depth);
     /// Nodes of the subtree over points first..last at `depth`.
     static uint32_t subtree_nodes(uint32_t first, uint32_t last, int depth);
@@ -97,6 +106,9 @@ private:
 
     double node_first_touch(uint32_t node, uint32_t first, uint32_t last, int depth, const Frustum& frustum,
                             double t_lo, double t_hi, double radius) const;
+    /// The same for a node whose side is known.
+    double classified_first_touch(BoxSide side, uint32_t node, uint32_t first, uint32_t last, int depth,
+                                  const Frustum& frustum, double t_lo, double t_hi, double radius) const;
     /// Earliest touching time over segments first..last (and the held pose after the last point),
     /// or +infinity. `planes`: a bit per frustum plane some of these points may be beyond (a leaf
     /// box wholly inside a plane holds no point beyond it); the answer is the same as with all.
