@@ -46,9 +46,9 @@ int main(int argc, char** argv) {
     const int worlds = argc > 1 ? std::atoi(argv[1]) : 1500;
     const int bodies = argc > 2 ? std::atoi(argv[2]) : 200;
     std::printf("Path index: %d worlds x %d bodies x 10 s, 30 Hz polylines (synthetic bouncing paths)\n", worlds, bodies);
-    // The paths live outside the index, as the library's polylines do in the add-on (drawn from
-    // the same memory); the index borrows them and keeps only its boxes.
-    std::vector<std::vector<float>> paths(static_cast<size_t>(worlds) * static_cast<size_t>(bodies));
+    // The paths live outside the index, as the library's polylines do in the add-on (one buffer
+    // per world, drawn from the same memory); the index borrows them and keeps only its boxes.
+    std::vector<std::vector<float>> world_points(static_cast<size_t>(worlds));
     std::vector<IndexedWorldInput> inputs(static_cast<size_t>(worlds));
     PortableRandom random(5);
     size_t path_bytes = 0;
@@ -56,13 +56,16 @@ int main(int argc, char** argv) {
         IndexedWorldInput& in = inputs[static_cast<size_t>(w)];
         in.world_index = static_cast<uint64_t>(w);
         in.last_frame = (kPointsPerPath - 1) * 4;
+        std::vector<float>& points = world_points[static_cast<size_t>(w)];
+        points.reserve(size_t{kPointsPerPath} * 3 * static_cast<size_t>(bodies));
         for (int b = 0; b < bodies; ++b) {
-            std::vector<float>& path = paths[static_cast<size_t>(w) * static_cast<size_t>(bodies) + static_cast<size_t>(b)];
-            path = bouncing_path(random);
-            path_bytes += path.size() * sizeof(float);
-            in.borrowed.push_back({path.data(), static_cast<uint32_t>(path.size() / 3)});
+            const std::vector<float> path = bouncing_path(random);
+            points.insert(points.end(), path.begin(), path.end());
             in.final_orientations.push_back({1, 0, 0, 0});
         }
+        for (int b = 0; b < bodies; ++b)
+            in.borrowed.push_back({points.data() + size_t{kPointsPerPath} * 3 * static_cast<size_t>(b), kPointsPerPath});
+        path_bytes += points.size() * sizeof(float);
     }
     PathIndex index(std::vector<double>(static_cast<size_t>(bodies), 0.2));
     auto start = std::chrono::steady_clock::now();
