@@ -10,23 +10,11 @@
 namespace mwb {
 namespace {
 
-// A sphere around a whole path: a cheap first rejection before the tree.
-std::array<float, 4> bounding_sphere(PathPoints points) {
-    if (points.count == 0) return {0, 0, 0, -1};
-    const auto point = [&](size_t k) { return Vec3{points.xyz[3 * k], points.xyz[3 * k + 1], points.xyz[3 * k + 2]}; };
-    Vec3 lo = point(0), hi = lo;
-    for (size_t k = 1; k < points.count; ++k) {
-        const Vec3 p = point(k);
-        for (int a = 0; a < 3; ++a) {
-            lo[a] = std::min(lo[a], p[a]);
-            hi[a] = std::max(hi[a], p[a]);
-        }
-    }
-    const Vec3 c = scale(add(lo, hi), 0.5);
-    double r = 0;
-    for (size_t k = 0; k < points.count; ++k) r = std::max(r, norm(sub(point(k), c)));
-    return {static_cast<float>(c[0]), static_cast<float>(c[1]), static_cast<float>(c[2]),
-            static_cast<float>(r * (1 + 1e-6) + 1e-6)};
+// A sphere around a whole path, for a cheap first rejection before the tree: the one around its
+// root box, which holds every point.
+std::array<float, 4> bounding_sphere(const PathBox& root) {
+    const double r = norm(Vec3{root.half_extents[0], root.half_extents[1], root.half_extents[2]});
+    return {root.center[0], root.center[1], root.center[2], static_cast<float>(r * (1 + 1e-6) + 1e-6)};
 }
 
 bool sphere_outside(const Frustum& f, const std::array<float, 4>& s, double radius) {
@@ -76,12 +64,12 @@ std::unique_ptr<PathIndex::World> PathIndex::build_world(IndexedWorldInput&& inp
     world->roots.resize(count);
     for (size_t b = 0; b < count; ++b) {
         World::Root& root = world->roots[b];
-        root.sphere = bounding_sphere(points[b]);
         root.first_box = static_cast<uint32_t>(world->boxes.size());
         root.points = points[b].xyz;
         root.point_count = points[b].count;
         PathView::build_boxes(points[b], world->boxes);
         root.box = points[b].count > 0 ? world->boxes[root.first_box] : PathBox{};
+        root.sphere = points[b].count > 0 ? bounding_sphere(root.box) : std::array<float, 4>{0, 0, 0, -1};
     }
     world->final_orientations = std::move(input.final_orientations);
     world->metric_names = std::move(input.metric_names);

@@ -9,13 +9,17 @@ namespace {
 
 constexpr int kMaxDepth = 3;
 constexpr uint32_t kMinSegmentsToSplit = 8;
+constexpr uint32_t kCovarianceSamples = 32;
 
 // Eigenvectors of a symmetric 3x3 matrix by cyclic Jacobi rotations; columns of the result.
 std::array<Vec3, 3> principal_axes(std::array<double, 9> a) {
     std::array<double, 9> v{1, 0, 0, 0, 1, 0, 0, 0, 1};
+    // The axes only need to be good, not exact: any axes give a box that holds the points, and
+    // they are stored to 1/32767. Stop once the off-diagonal is a millionth of the diagonal.
+    const double scale2 = a[0] * a[0] + a[4] * a[4] + a[8] * a[8];
     for (int sweep = 0; sweep < 12; ++sweep) {
         const double off = a[1] * a[1] + a[2] * a[2] + a[5] * a[5];
-        if (off < 1e-30) break;
+        if (off <= 1e-12 * scale2 || off < 1e-30) break;
         for (int p = 0; p < 2; ++p) {
             for (int q = p + 1; q < 3; ++q) {
                 const double apq = a[3 * p + q];
@@ -150,11 +154,14 @@ void PathView::build(PathPoints points, uint32_t first, uint32_t last, int depth
     const size_t index = out.size();
     out.push_back({});
     // Principal axes of the points (mean and covariance in one pass), then the box of their
-    // extents along them.
+    // extents along them. The axes need only be good, so a long run's covariance is taken over
+    // every step-th point; the extents are over all of them.
     Vec3 sum{0, 0, 0};
     std::array<double, 6> products{};  // xx, xy, xz, yy, yz, zz
     const Vec3 origin = point(first);  // offsets from a path point keep the sums well conditioned
-    for (uint32_t k = first; k <= last; ++k) {
+    const uint32_t step = std::max<uint32_t>(1, (last - first) / kCovarianceSamples);
+    double n = 0;
+    for (uint32_t k = first; k <= last; k += step, ++n) {
         const Vec3 d = sub(point(k), origin);
         sum = add(sum, d);
         products[0] += d[0] * d[0];
@@ -164,7 +171,6 @@ void PathView::build(PathPoints points, uint32_t first, uint32_t last, int depth
         products[4] += d[1] * d[2];
         products[5] += d[2] * d[2];
     }
-    const double n = last - first + 1;
     const Vec3 mean_offset = scale(sum, 1 / n);
     const std::array<double, 9> covariance{
         products[0] - n * mean_offset[0] * mean_offset[0], products[1] - n * mean_offset[0] * mean_offset[1],
