@@ -31,8 +31,8 @@ PathIndex::PathIndex(std::vector<double> body_radii_m) : body_radii_m_(std::move
 PathView PathIndex::World::path(uint32_t body) const {
     if (!has_path(body)) return {};
     const Root& root = roots[body];
-    return PathView(boxes.data() + root.first_box, {root.points, root.point_count}, stride, last_frame, record_hz,
-                    hold_until_s);
+    return PathView(&root.box, children.data() + root.first_child, {root.points, root.point_count}, stride,
+                    last_frame, record_hz, hold_until_s);
 }
 
 std::vector<PathView> PathIndex::World::paths() const {
@@ -58,17 +58,17 @@ std::unique_ptr<PathIndex::World> PathIndex::build_world(IndexedWorldInput&& inp
         for (size_t b = 0; b < count; ++b)
             points[b] = {world->held_points[b].data(), static_cast<uint32_t>(world->held_points[b].size() / 3)};
     }
-    uint32_t box_total = 0;
-    for (const PathPoints& p : points) box_total += PathView::box_count(p.count);
-    world->boxes.reserve(box_total);
+    uint32_t child_total = 0;
+    for (const PathPoints& p : points) child_total += PathView::child_count(p.count);
+    world->children.reserve(child_total);
     world->roots.resize(count);
     for (size_t b = 0; b < count; ++b) {
         World::Root& root = world->roots[b];
-        root.first_box = static_cast<uint32_t>(world->boxes.size());
+        root.first_child = static_cast<uint32_t>(world->children.size());
         root.points = points[b].xyz;
         root.point_count = points[b].count;
-        PathView::build_boxes(points[b], world->boxes);
-        root.box = points[b].count > 0 ? world->boxes[root.first_box] : PathBox{};
+        root.box = PathBox{};
+        if (points[b].count > 0) PathView::build_boxes(points[b], root.box, world->children);
         root.sphere = points[b].count > 0 ? bounding_sphere(root.box) : std::array<float, 4>{0, 0, 0, -1};
     }
     world->final_orientations = std::move(input.final_orientations);
@@ -125,7 +125,7 @@ size_t PathIndex::memory_bytes() const {
     std::lock_guard<std::mutex> lock(mutex_);
     size_t bytes = sizeof(*this);
     for (const auto& w : worlds_) {
-        bytes += sizeof(World) + w->roots.capacity() * sizeof(World::Root) + w->boxes.capacity() * sizeof(PathBox) +
+        bytes += sizeof(World) + w->roots.capacity() * sizeof(World::Root) + w->children.capacity() * sizeof(ChildBox) +
                  w->final_orientations.capacity() * sizeof(Quat);
         for (const auto& p : w->held_points) bytes += p.capacity() * sizeof(float);
         for (const auto& m : w->metric_values) bytes += m.capacity() * sizeof(double);
@@ -154,9 +154,8 @@ bool PathIndex::world_satisfies(const World& world, const QueryBox& box, bool br
         if (!brute_force) {
             if (sphere_outside(box.frustum, root.sphere, radius)) continue;
             // The tree's first boxes load while the root box is tested.
-            const char* tree = reinterpret_cast<const char*>(world.boxes.data() + root.first_box);
-            __builtin_prefetch(tree);
-            __builtin_prefetch(tree + 64);
+            const char* tree = reinterpret_cast<const char*>(world.children.data() + root.first_child);
+            for (int line = 0; line < 4; ++line) __builtin_prefetch(tree + 64 * line);
             root_side = PathView::box_side(root.box, box.frustum, radius);
             if (root_side.side < 0) continue;
         }

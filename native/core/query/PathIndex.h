@@ -100,17 +100,17 @@ private:
         uint32_t stride, last_frame;
         double record_hz, hold_until_s;
         /// Per body, in one cache line: a sphere around the path (centre, radius; negative radius:
-        /// no path), the tree's root box, where its boxes start and where its points are, so a box
-        /// over many bodies rarely loads more than this.
+        /// no path), the tree's root box, where its other boxes start and where its points are,
+        /// so a box over many bodies rarely loads more than this.
         struct alignas(64) Root {
             std::array<float, 4> sphere;
             PathBox box;
             const float* points;
-            uint32_t first_box;
+            uint32_t first_child;
             uint32_t point_count;
         };
         std::vector<Root> roots;
-        std::vector<PathBox> boxes;  ///< every path's tree, path after path
+        std::vector<ChildBox> children;  ///< every path's boxes below its root, path after path
         std::vector<std::vector<float>> held_points;  ///< the points of paths given as polylines
         std::vector<Quat> final_orientations;
         std::vector<std::string> metric_names;

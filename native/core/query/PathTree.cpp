@@ -15,16 +15,18 @@ bool whole_path(double t_lo, double t_hi) {
 constexpr int kMaxDepth = 3;
 constexpr uint32_t kMinSegmentsToSplit = 8;
 constexpr uint32_t kCovarianceSamples = 32;
+constexpr double kRootAxesTolerance = 1e-12, kChildAxesTolerance = 1e-6;
 
 // Eigenvectors of a symmetric 3x3 matrix by cyclic Jacobi rotations; columns of the result.
-std::array<Vec3, 3> principal_axes(std::array<double, 9> a) {
+// The axes only need to be good, not exact: any axes give a box that holds the points, and they
+// are stored to 1/32767 (the root) or 1/127. The solver stops once the off-diagonal's square is
+// `tolerance` times the diagonal's, an angle of about its square root.
+std::array<Vec3, 3> principal_axes(std::array<double, 9> a, double tolerance) {
     std::array<double, 9> v{1, 0, 0, 0, 1, 0, 0, 0, 1};
-    // The axes only need to be good, not exact: any axes give a box that holds the points, and
-    // they are stored to 1/32767. Stop once the off-diagonal is a millionth of the diagonal.
     const double scale2 = a[0] * a[0] + a[4] * a[4] + a[8] * a[8];
     for (int sweep = 0; sweep < 12; ++sweep) {
         const double off = a[1] * a[1] + a[2] * a[2] + a[5] * a[5];
-        if (off <= 1e-12 * scale2 || off < 1e-30) break;
+        if (off <= tolerance * scale2 || off < 1e-30) break;
         for (int p = 0; p < 2; ++p) {
             for (int q = p + 1; q < 3; ++q) {
                 const double apq = a[3 * p + q];
@@ -81,87 +83,45 @@ Quat rotation_onto(const std::array<Vec3, 3>& axes) {
     return quat_normalized(q);
 }
 
-}  // namespace
-
-std::array<Vec3, 3> PathView::axes_of(const PathBox& node) {
-    // The rotation of the stored quaternion scaled to unit length: with s = 2 / |q|² the matrix
-    // needs one division instead of a square root and eight (this runs for every box a query tests).
-    const double w = node.rotation[0], x = node.rotation[1], y = node.rotation[2], z = node.rotation[3];
+// Components of a quaternion (any length, not zero) to the columns of its rotation matrix: the
+// images of the world axes. With s = 2 / |q|² one division does what normalizing would.
+std::array<Vec3, 3> axes_from(double w, double x, double y, double z) {
     const double s = 2 / (w * w + x * x + y * y + z * z);
-    // The columns of the rotation matrix: the images of the world axes.
     return {Vec3{1 - s * (y * y + z * z), s * (x * y + w * z), s * (x * z - w * y)},
             Vec3{s * (x * y - w * z), 1 - s * (x * x + z * z), s * (y * z + w * x)},
             Vec3{s * (x * z + w * y), s * (y * z - w * x), 1 - s * (x * x + y * y)}};
 }
 
-BoxSide PathView::box_side(const PathBox& box, const Frustum& frustum, double radius) {
-    BoxSide out;
-    out.side = frustum.classify_box({box.center[0], box.center[1], box.center[2]}, axes_of(box),
-                                    {box.half_extents[0], box.half_extents[1], box.half_extents[2]}, radius,
-                                    &out.crossing);
-    return out;
+std::array<Vec3, 3> axes_of(const PathBox& box) {
+    return axes_from(box.rotation[0], box.rotation[1], box.rotation[2], box.rotation[3]);
 }
 
-bool PathView::splits(uint32_t first, uint32_t last, int depth) {
-    return depth < kMaxDepth && last - first >= kMinSegmentsToSplit;
+std::array<Vec3, 3> axes_of(const ChildBox& box) {
+    return axes_from(box.rotation[0], box.rotation[1], box.rotation[2], box.rotation[3]);
 }
 
-uint32_t PathView::subtree_nodes(uint32_t first, uint32_t last, int depth) {
-    if (!splits(first, last, depth)) return 1;
-    const uint32_t middle = first + (last - first) / 2;
-    return 1 + subtree_nodes(first, middle, depth + 1) + subtree_nodes(middle, last, depth + 1);
+Vec3 center_of(const PathBox& box) { return {box.center[0], box.center[1], box.center[2]}; }
+Vec3 half_of(const PathBox& box) { return {box.half_extents[0], box.half_extents[1], box.half_extents[2]}; }
+
+// A child box's centre and half extents, decoded the same way when it is built and when it is
+// tested.
+Vec3 center_of(const ChildBox& box, const Vec3& parent_center, double parent_reach) {
+    return {parent_center[0] + parent_reach * (box.offset[0] / 32767.0),
+            parent_center[1] + parent_reach * (box.offset[1] / 32767.0),
+            parent_center[2] + parent_reach * (box.offset[2] / 32767.0)};
 }
 
-PathView::PathView(const PathBox* boxes, PathPoints points, uint32_t stride, uint32_t last_frame, double record_hz,
-                   double hold_until_s)
-    : boxes_(boxes),
-      points_(points.xyz),
-      point_count_(points.count),
-      stride_(std::max<uint32_t>(1, stride)),
-      last_frame_(last_frame),
-      record_hz_(record_hz) {
-    if (point_count_ > 0) hold_end_s_ = std::max(time_of(point_count_ - 1), hold_until_s);
+constexpr double kHalfScale = 4.0;  // a child's half extents are at most this many parent reaches
+
+Vec3 half_of(const ChildBox& box, double parent_reach) {
+    const double unit = kHalfScale * parent_reach / 65535.0;
+    return {unit * box.half[0], unit * box.half[1], unit * box.half[2]};
 }
 
-uint32_t PathView::box_count(uint32_t point_count) {
-    return point_count == 0 ? 0 : subtree_nodes(0, point_count - 1, 0);
-}
-
-void PathView::build_boxes(PathPoints points, std::vector<PathBox>& out) {
-    if (points.count > 0) build(points, 0, points.count - 1, 0, out);
-}
-
-double PathView::end_of(uint32_t last_point) const {
-    return last_point + 1 == point_count() ? hold_end_s_ : time_of(last_point);
-}
-
-double PathView::time_of(size_t k) const {
-    return static_cast<double>(std::min<uint64_t>(uint64_t{k} * stride_, last_frame_)) / record_hz_;
-}
-
-PathTree::PathTree(std::vector<float> points, uint32_t stride, uint32_t last_frame, double record_hz,
-                   double hold_until_s)
-    : held_points_(std::move(points)) {
-    const PathPoints own{held_points_.data(), static_cast<uint32_t>(held_points_.size() / 3)};
-    held_boxes_.reserve(box_count(own.count));
-    build_boxes(own, held_boxes_);
-    static_cast<PathView&>(*this) = PathView(held_boxes_.data(), own, stride, last_frame, record_hz, hold_until_s);
-}
-
-PathTree::PathTree(const PathTree& other)
-    : PathView(other), held_points_(other.held_points_), held_boxes_(other.held_boxes_) {
-    rebind(held_boxes_.data(), held_points_.data());
-}
-
-void PathView::build(PathPoints points, uint32_t first, uint32_t last, int depth, std::vector<PathBox>& out) {
-    const auto point = [&](uint32_t k) {
-        return Vec3{points.xyz[3 * k], points.xyz[3 * k + 1], points.xyz[3 * k + 2]};
-    };
-    const size_t index = out.size();
-    out.push_back({});
-    // Principal axes of the points (mean and covariance in one pass), then the box of their
-    // extents along them. The axes need only be good, so a long run's covariance is taken over
-    // every step-th point; the extents are over all of them.
+// The principal axes of points first..last as a unit quaternion (mean and covariance in one pass).
+// The axes need only be good, so a long run's covariance is taken over every step-th point.
+Quat fitted_rotation(PathPoints points, uint32_t first, uint32_t last, double tolerance, Vec3& mean) {
+    const auto point = [&](uint32_t k) { return Vec3{points.xyz[3 * k], points.xyz[3 * k + 1], points.xyz[3 * k + 2]}; };
     Vec3 sum{0, 0, 0};
     std::array<double, 6> products{};  // xx, xy, xz, yy, yz, zz
     const Vec3 origin = point(first);  // offsets from a path point keep the sums well conditioned
@@ -177,18 +137,102 @@ void PathView::build(PathPoints points, uint32_t first, uint32_t last, int depth
         products[4] += d[1] * d[2];
         products[5] += d[2] * d[2];
     }
-    const Vec3 mean_offset = scale(sum, 1 / n);
+    const Vec3 m = scale(sum, 1 / n);
+    mean = add(origin, m);
     const std::array<double, 9> covariance{
-        products[0] - n * mean_offset[0] * mean_offset[0], products[1] - n * mean_offset[0] * mean_offset[1],
-        products[2] - n * mean_offset[0] * mean_offset[2], products[1] - n * mean_offset[0] * mean_offset[1],
-        products[3] - n * mean_offset[1] * mean_offset[1], products[4] - n * mean_offset[1] * mean_offset[2],
-        products[2] - n * mean_offset[0] * mean_offset[2], products[4] - n * mean_offset[1] * mean_offset[2],
-        products[5] - n * mean_offset[2] * mean_offset[2]};
-    PathBox node;
-    const Quat rotation = rotation_onto(principal_axes(covariance));
-    for (int c = 0; c < 4; ++c) node.rotation[c] = static_cast<int16_t>(std::lround(rotation[c] * 32767.0));
-    const std::array<Vec3, 3> axes = axes_of(node);
-    const Vec3 mean = add(origin, mean_offset);
+        products[0] - n * m[0] * m[0], products[1] - n * m[0] * m[1], products[2] - n * m[0] * m[2],
+        products[1] - n * m[0] * m[1], products[3] - n * m[1] * m[1], products[4] - n * m[1] * m[2],
+        products[2] - n * m[0] * m[2], products[4] - n * m[1] * m[2], products[5] - n * m[2] * m[2]};
+    return rotation_onto(principal_axes(covariance, tolerance));
+}
+
+// Padding for the arithmetic of decoding and testing a box of this half extent at this scale.
+double padded(double half, double scale_m) { return half * (1 + 1e-6) + 1e-6 * (1 + scale_m); }
+
+}  // namespace
+
+BoxSide PathView::box_side(const PathBox& box, const Frustum& frustum, double radius) {
+    BoxSide out;
+    out.side = frustum.classify_box(center_of(box), axes_of(box), half_of(box), radius, &out.crossing);
+    return out;
+}
+
+bool PathView::splits(uint32_t first, uint32_t last, int depth) {
+    return depth < kMaxDepth && last - first >= kMinSegmentsToSplit;
+}
+
+uint32_t PathView::subtree_nodes(uint32_t first, uint32_t last, int depth) {
+    if (!splits(first, last, depth)) return 1;
+    const uint32_t middle = first + (last - first) / 2;
+    return 1 + subtree_nodes(first, middle, depth + 1) + subtree_nodes(middle, last, depth + 1);
+}
+
+PathView::PathView(const PathBox* root, const ChildBox* children, PathPoints points, uint32_t stride,
+                   uint32_t last_frame, double record_hz, double hold_until_s)
+    : root_(root),
+      children_(children),
+      points_(points.xyz),
+      point_count_(points.count),
+      stride_(std::max<uint32_t>(1, stride)),
+      last_frame_(last_frame),
+      record_hz_(record_hz) {
+    if (point_count_ > 0) hold_end_s_ = std::max(time_of(point_count_ - 1), hold_until_s);
+}
+
+uint32_t PathView::child_count(uint32_t point_count) {
+    return point_count == 0 ? 0 : subtree_nodes(0, point_count - 1, 0) - 1;
+}
+
+void PathView::build_boxes(PathPoints points, PathBox& root, std::vector<ChildBox>& children) {
+    const auto point = [&](uint32_t k) { return Vec3{points.xyz[3 * k], points.xyz[3 * k + 1], points.xyz[3 * k + 2]}; };
+    const uint32_t last = points.count - 1;
+    Vec3 mean;
+    const Quat rotation = fitted_rotation(points, 0, last, kRootAxesTolerance, mean);
+    for (int c = 0; c < 4; ++c) root.rotation[c] = static_cast<int16_t>(std::lround(rotation[c] * 32767.0));
+    const std::array<Vec3, 3> axes = axes_of(root);
+    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    for (uint32_t k = 0; k <= last; ++k) {
+        const Vec3 d = sub(point(k), mean);
+        for (int a = 0; a < 3; ++a) {
+            const double along = dot(d, axes[a]);
+            lo[a] = std::min(lo[a], along);
+            hi[a] = std::max(hi[a], along);
+        }
+    }
+    Vec3 center = mean;
+    for (int a = 0; a < 3; ++a) center = add(center, scale(axes[a], (lo[a] + hi[a]) / 2));
+    // Stored in single precision: around the rounded centre a point reaches at most half the
+    // extent plus the rounding shift along each axis.
+    for (int a = 0; a < 3; ++a) root.center[a] = static_cast<float>(center[a]);
+    const Vec3 shift = sub(center_of(root), center);
+    Vec3 half{};
+    for (int a = 0; a < 3; ++a) half[a] = (hi[a] - lo[a]) / 2 + std::fabs(dot(shift, axes[a]));
+    const double reach = norm(half);
+    for (int a = 0; a < 3; ++a) root.half_extents[a] = static_cast<float>(padded(half[a], reach));
+    build_children(points, 0, last, 0, center_of(root), norm(half_of(root)), children);
+}
+
+void PathView::build_children(PathPoints points, uint32_t first, uint32_t last, int depth, const Vec3& center,
+                              double reach, std::vector<ChildBox>& out) {
+    if (!splits(first, last, depth)) return;
+    const uint32_t middle = first + (last - first) / 2;  // children share the middle point
+    for (const auto& [lo, hi] : {std::pair{first, middle}, std::pair{middle, last}}) {
+        const ChildBox child = fit_child(points, lo, hi, center, reach);
+        out.push_back(child);
+        build_children(points, lo, hi, depth + 1, center_of(child, center, reach), norm(half_of(child, reach)), out);
+    }
+}
+
+ChildBox PathView::fit_child(PathPoints points, uint32_t first, uint32_t last, const Vec3& parent_center,
+                             double parent_reach) {
+    const auto point = [&](uint32_t k) { return Vec3{points.xyz[3 * k], points.xyz[3 * k + 1], points.xyz[3 * k + 2]}; };
+    ChildBox box{};
+    Vec3 mean;
+    const Quat rotation = fitted_rotation(points, first, last, kChildAxesTolerance, mean);
+    for (int c = 0; c < 4; ++c) box.rotation[c] = static_cast<int8_t>(std::lround(rotation[c] * 127.0));
+    const std::array<Vec3, 3> axes = axes_of(box);
+    // The centre of the points' extents along the axes, as the parent's reach allows it to be put:
+    // it lies within the parent's box, so within one reach of the parent's centre.
     Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
     for (uint32_t k = first; k <= last; ++k) {
         const Vec3 d = sub(point(k), mean);
@@ -200,20 +244,57 @@ void PathView::build(PathPoints points, uint32_t first, uint32_t last, int depth
     }
     Vec3 center = mean;
     for (int a = 0; a < 3; ++a) center = add(center, scale(axes[a], (lo[a] + hi[a]) / 2));
-    // Stored in single precision: around the rounded centre a point reaches at most half the
-    // extent plus the rounding shift along each axis; the padding covers the arithmetic.
-    for (int a = 0; a < 3; ++a) node.center[a] = static_cast<float>(center[a]);
-    const Vec3 shift = sub(Vec3{node.center[0], node.center[1], node.center[2]}, center);
+    for (int a = 0; a < 3; ++a)
+        box.offset[a] = static_cast<int16_t>(
+            std::clamp(std::lround((center[a] - parent_center[a]) / parent_reach * 32767.0), -32767L, 32767L));
+    // Half extents around the centre as decoded (the points' extents shifted by where it lies
+    // from the mean), rounded up to the next step: no point is outside.
+    const Vec3 shift = sub(center_of(box, parent_center, parent_reach), mean);
     Vec3 half{};
-    for (int a = 0; a < 3; ++a) half[a] = (hi[a] - lo[a]) / 2 + std::fabs(dot(shift, axes[a]));
-    const double reach = norm(half);
-    for (int a = 0; a < 3; ++a) node.half_extents[a] = static_cast<float>(half[a] * (1 + 1e-6) + 1e-6 * (1 + reach));
-    out[index] = node;
-    if (splits(first, last, depth)) {
-        const uint32_t middle = first + (last - first) / 2;  // children share the middle point
-        build(points, first, middle, depth + 1, out);
-        build(points, middle, last, depth + 1, out);
+    for (int a = 0; a < 3; ++a) {
+        const double along = dot(shift, axes[a]);
+        half[a] = std::max(std::fabs(lo[a] - along), std::fabs(hi[a] - along));
     }
+    const double unit = kHalfScale * parent_reach / 65535.0;
+    for (int a = 0; a < 3; ++a) {
+        const double needed = padded(half[a], norm(half));
+        const double steps = std::min(65535.0, std::ceil(needed / unit));
+        box.half[a] = static_cast<uint16_t>(steps);
+        if (half_of(box, parent_reach)[a] < needed && box.half[a] < 65535) ++box.half[a];
+    }
+    return box;
+}
+
+double PathView::end_of(uint32_t last_point) const {
+    return last_point + 1 == point_count() ? hold_end_s_ : time_of(last_point);
+}
+
+double PathView::time_of(size_t k) const {
+    return static_cast<double>(std::min<uint64_t>(uint64_t{k} * stride_, last_frame_)) / record_hz_;
+}
+
+PathTree::PathTree(std::vector<float> points, uint32_t stride, uint32_t last_frame, double record_hz,
+                   double hold_until_s)
+    : held_points_(std::move(points)) {
+    const PathPoints own{held_points_.data(), static_cast<uint32_t>(held_points_.size() / 3)};
+    if (own.count > 0) {
+        held_children_.reserve(child_count(own.count));
+        build_boxes(own, held_root_, held_children_);
+    }
+    static_cast<PathView&>(*this) =
+        PathView(&held_root_, held_children_.data(), own, stride, last_frame, record_hz, hold_until_s);
+}
+
+PathTree::PathTree(const PathTree& other)
+    : PathView(other), held_points_(other.held_points_), held_root_(other.held_root_),
+      held_children_(other.held_children_) {
+    rebind(&held_root_, held_children_.data(), held_points_.data());
+}
+
+PathTree::PathTree(PathTree&& other) noexcept
+    : PathView(other), held_points_(std::move(other.held_points_)), held_root_(other.held_root_),
+      held_children_(std::move(other.held_children_)) {
+    rebind(&held_root_, held_children_.data(), held_points_.data());
 }
 
 bool PathView::touches(const Frustum& frustum, const TimeWindow& window, double radius, const BoxSide* root) const {
@@ -259,18 +340,24 @@ double PathView::segments_first_touch(uint32_t first, uint32_t last, const Frust
     return std::numeric_limits<double>::infinity();
 }
 
-double PathView::node_first_touch(uint32_t index, uint32_t first, uint32_t last, int depth, const Frustum& frustum,
-                                  double t_lo, double t_hi, double radius) const {
+double PathView::node_first_touch(uint32_t node, uint32_t first, uint32_t last, int depth,
+                                  const Vec3& parent_center, double parent_reach, const Frustum& frustum, double t_lo,
+                                  double t_hi, double radius) const {
     if (!whole_path(t_lo, t_hi) && (end_of(last) < t_lo || time_of(first) > t_hi))
         return std::numeric_limits<double>::infinity();
     // A leaf's points are needed if its box crosses: they load while the box is tested.
     if (!splits(first, last, depth)) __builtin_prefetch(points_ + 3 * first);
-    return classified_first_touch(box_side(boxes_[index], frustum, radius), index, first, last, depth, frustum, t_lo,
-                                  t_hi, radius);
+    const ChildBox& box = children_[node - 1];
+    const Vec3 center = center_of(box, parent_center, parent_reach);
+    const Vec3 half = half_of(box, parent_reach);
+    BoxSide side;
+    side.side = frustum.classify_box(center, axes_of(box), half, radius, &side.crossing);
+    return classified_first_touch(side, node, first, last, depth, center, half, frustum, t_lo, t_hi, radius);
 }
 
-double PathView::classified_first_touch(BoxSide side, uint32_t index, uint32_t first, uint32_t last, int depth,
-                                        const Frustum& frustum, double t_lo, double t_hi, double radius) const {
+double PathView::classified_first_touch(BoxSide side, uint32_t node, uint32_t first, uint32_t last, int depth,
+                                        const Vec3& center, const Vec3& half, const Frustum& frustum, double t_lo,
+                                        double t_hi, double radius) const {
     if (side.side < 0) return std::numeric_limits<double>::infinity();
     if (!whole_path(t_lo, t_hi) && (end_of(last) < t_lo || time_of(first) > t_hi))
         return std::numeric_limits<double>::infinity();
@@ -280,10 +367,11 @@ double PathView::classified_first_touch(BoxSide side, uint32_t index, uint32_t f
         return segments_first_touch(first, last, frustum, t_lo, t_hi, radius, side.crossing);
     // The first child holds the earlier part of the path; the second follows its subtree.
     const uint32_t middle = first + (last - first) / 2;
-    const double early = node_first_touch(index + 1, first, middle, depth + 1, frustum, t_lo, t_hi, radius);
+    const double reach = norm(half);
+    const double early = node_first_touch(node + 1, first, middle, depth + 1, center, reach, frustum, t_lo, t_hi, radius);
     if (std::isfinite(early)) return early;
-    return node_first_touch(index + 1 + subtree_nodes(first, middle, depth + 1), middle, last, depth + 1, frustum, t_lo,
-                            t_hi, radius);
+    return node_first_touch(node + 1 + subtree_nodes(first, middle, depth + 1), middle, last, depth + 1, center, reach,
+                            frustum, t_lo, t_hi, radius);
 }
 
 double PathView::first_touch_time(const Frustum& frustum, const TimeWindow& window, double radius,
@@ -292,8 +380,9 @@ double PathView::first_touch_time(const Frustum& frustum, const TimeWindow& wind
     const double lo = window.empty() ? -std::numeric_limits<double>::infinity() : window.lo_s;
     const double hi = window.empty() ? std::numeric_limits<double>::infinity() : window.hi_s;
     const auto last = static_cast<uint32_t>(point_count() - 1);
-    const double t = root ? classified_first_touch(*root, 0, 0, last, 0, frustum, lo, hi, radius)
-                          : node_first_touch(0, 0, last, 0, frustum, lo, hi, radius);
+    const BoxSide side = root ? *root : box_side(*root_, frustum, radius);
+    const double t =
+        classified_first_touch(side, 0, 0, last, 0, center_of(*root_), half_of(*root_), frustum, lo, hi, radius);
     return std::isfinite(t) ? t : -1;
 }
 

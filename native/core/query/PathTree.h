@@ -3,6 +3,7 @@
 // with runs of segments at the leaves. A PathView queries a path whose boxes and points live
 // elsewhere: the index keeps the boxes of a world's paths in one array and reads the points the
 // library draws from, so ten thousand worlds do not hold every path twice. A PathTree owns both.
+// Boxes below the root are stored relative to their parent in 16 bytes.
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -23,12 +24,21 @@ struct TimeWindow {
     bool empty() const { return lo_s > hi_s; }
 };
 
-/// An oriented box in 32 bytes: single-precision centre and extents, the axes as a rotation
-/// quantized to 16 bits per component.
+/// The root's oriented box in 32 bytes: single-precision centre and extents, the axes as a
+/// rotation quantized to 16 bits per component.
 struct PathBox {
     std::array<float, 3> center;
     std::array<int16_t, 4> rotation;  ///< w, x, y, z of a unit quaternion, times 32767
     std::array<float, 3> half_extents;
+};
+
+/// A box below the root in 16 bytes, relative to its parent's centre c and reach r (the length of
+/// its half extents), within which it lies: centre c + r·offset/32767, half extents
+/// 4·r·half/65535, the axes as a rotation quantized to 8 bits per component.
+struct ChildBox {
+    std::array<int16_t, 3> offset;
+    std::array<uint16_t, 3> half;
+    std::array<int8_t, 4> rotation;  ///< w, x, y, z of a quaternion, any length
 };
 
 /// Where a box lies against a frustum: side -1 wholly outside a plane, +1 wholly inside all, 0
@@ -42,16 +52,17 @@ class PathView {
 public:
     /// A path without points: it touches nothing.
     PathView() = default;
-    /// `boxes`: what build_boxes made of `points`. Point k is at time
+    /// `root` and `children`: what build_boxes made of `points`. Point k is at time
     /// min(k·stride, last_frame) / record_hz; the last point is held from its time up to
     /// `hold_until_s` (a world that came to rest before the run's end stays where it rests).
-    PathView(const PathBox* boxes, PathPoints points, uint32_t stride, uint32_t last_frame, double record_hz,
-             double hold_until_s = 0);
+    PathView(const PathBox* root, const ChildBox* children, PathPoints points, uint32_t stride, uint32_t last_frame,
+             double record_hz, double hold_until_s = 0);
 
-    /// How many boxes the tree over `point_count` points has.
-    static uint32_t box_count(uint32_t point_count);
-    /// Appends the boxes of the tree over `points` to `out`, root first, depth first.
-    static void build_boxes(PathPoints points, std::vector<PathBox>& out);
+    /// How many boxes below the root the tree over `point_count` points has.
+    static uint32_t child_count(uint32_t point_count);
+    /// Fits the tree over `points` (at least one): its root box, and appends the others to
+    /// `children` in depth-first order.
+    static void build_boxes(PathPoints points, PathBox& root, std::vector<ChildBox>& children);
 
     /// Whether the path comes within `radius` of the frustum during `window` (whole path if
     /// the window is empty): whether it has a first touch. Uses the tree; the answer equals
@@ -72,7 +83,7 @@ public:
 
     /// The root's oriented box, as the tree tests it; only for a path with points. Kept beside
     /// other paths' roots, it decides most queries without touching the tree.
-    const PathBox& root_box() const { return boxes_[0]; }
+    const PathBox& root_box() const { return *root_; }
     /// Where `box` (grown by `radius`) lies: wholly outside the frustum, the path does not touch
     /// it at any time, exactly as the tree would answer.
     static BoxSide box_side(const PathBox& box, const Frustum& frustum, double radius);
@@ -86,29 +97,37 @@ public:
 
 protected:
     /// Points the view at a copy of what it viewed.
-    void rebind(const PathBox* boxes, const float* points) {
-        boxes_ = boxes;
+    void rebind(const PathBox* root, const ChildBox* children, const float* points) {
+        root_ = root;
+        children_ = children;
         points_ = points;
     }
 
 private:
-    // A node is a PathBox, measured around the axes as the query rebuilds them, and padded for the
-    // single-precision rounding, so every point stays inside it. Which points a node covers and
-    // whether it has children follow from the point count (nodes are in depth-first order, each
-    // range split at its middle), so they are not stored.
-    static std::array<Vec3, 3> axes_of(const PathBox& node);
-
+    // Boxes are measured around the centre and axes as the query decodes them, and padded for
+    // the rounding, so every point stays inside. Which points a node covers and whether it has
+    // children follow from the point count (nodes are in depth-first order, each range split at
+    // its middle), so they are not stored.
     static bool splits(uint32_t first, uint32_t last, int depth);
     /// Nodes of the subtree over points first..last at `depth`.
     static uint32_t subtree_nodes(uint32_t first, uint32_t last, int depth);
-    /// Appends the nodes over points first..last.
-    static void build(PathPoints points, uint32_t first, uint32_t last, int depth, std::vector<PathBox>& out);
+    /// Appends the boxes below a node over points first..last at `depth`, whose decoded centre
+    /// and reach are given.
+    static void build_children(PathPoints points, uint32_t first, uint32_t last, int depth, const Vec3& center,
+                               double reach, std::vector<ChildBox>& out);
+    /// Fits a child box over points first..last within its parent's centre and reach.
+    static ChildBox fit_child(PathPoints points, uint32_t first, uint32_t last, const Vec3& parent_center,
+                              double parent_reach);
 
-    double node_first_touch(uint32_t node, uint32_t first, uint32_t last, int depth, const Frustum& frustum,
-                            double t_lo, double t_hi, double radius) const;
-    /// The same for a node whose side is known.
+    /// Node `node` (1 and up: children_[node - 1]) over points first..last, below a parent of
+    /// this centre and reach.
+    double node_first_touch(uint32_t node, uint32_t first, uint32_t last, int depth, const Vec3& parent_center,
+                            double parent_reach, const Frustum& frustum, double t_lo, double t_hi,
+                            double radius) const;
+    /// The same for a node whose side, centre and half extents are known.
     double classified_first_touch(BoxSide side, uint32_t node, uint32_t first, uint32_t last, int depth,
-                                  const Frustum& frustum, double t_lo, double t_hi, double radius) const;
+                                  const Vec3& center, const Vec3& half, const Frustum& frustum, double t_lo,
+                                  double t_hi, double radius) const;
     /// Earliest touching time over segments first..last (and the held pose after the last point),
     /// or +infinity. `planes`: a bit per frustum plane some of these points may be beyond (a leaf
     /// box wholly inside a plane holds no point beyond it); the answer is the same as with all.
@@ -117,7 +136,8 @@ private:
     /// Time of the last point, or of the segments' end when a point is given.
     double end_of(uint32_t last_point) const;
 
-    const PathBox* boxes_ = nullptr;
+    const PathBox* root_ = nullptr;
+    const ChildBox* children_ = nullptr;
     const float* points_ = nullptr;
     uint32_t point_count_ = 0;
     uint32_t stride_ = 1, last_frame_ = 0;
@@ -131,13 +151,14 @@ public:
     PathTree(std::vector<float> points, uint32_t stride, uint32_t last_frame, double record_hz,
              double hold_until_s = 0);
     PathTree(const PathTree& other);
-    PathTree(PathTree&& other) noexcept = default;  // moved vectors keep their buffers: the view stays valid
+    PathTree(PathTree&& other) noexcept;
     PathTree& operator=(const PathTree&) = delete;
     PathTree& operator=(PathTree&&) = delete;
 
 private:
     std::vector<float> held_points_;
-    std::vector<PathBox> held_boxes_;
+    PathBox held_root_{};
+    std::vector<ChildBox> held_children_;
 };
 
 }  // namespace mwb
