@@ -146,6 +146,21 @@ Quat fitted_rotation(PathPoints points, uint32_t first, uint32_t last, double to
     return rotation_onto(principal_axes(covariance, tolerance));
 }
 
+// A leaf's axes without a covariance: along its chord, then towards its middle point, which for a
+// short run of a path is about what the principal axes are.
+Quat chord_rotation(PathPoints points, uint32_t first, uint32_t last) {
+    const auto point = [&](uint32_t k) { return Vec3{points.xyz[3 * k], points.xyz[3 * k + 1], points.xyz[3 * k + 2]}; };
+    Vec3 x = sub(point(last), point(first));
+    const double length = norm(x);
+    x = length > 1e-9 ? scale(x, 1 / length) : Vec3{1, 0, 0};
+    Vec3 y = sub(point(first + (last - first) / 2), point(first));
+    y = sub(y, scale(x, dot(x, y)));
+    const double height = norm(y);
+    y = height > 1e-9 ? scale(y, 1 / height) : (std::fabs(x[0]) < 0.9 ? cross(x, {1, 0, 0}) : cross(x, {0, 1, 0}));
+    y = scale(y, 1 / norm(y));
+    return rotation_onto({x, y, cross(x, y)});
+}
+
 // Padding for the arithmetic of decoding and testing a box of this half extent at this scale.
 double padded(double half, double scale_m) { return half * (1 + 1e-6) + 1e-6 * (1 + scale_m); }
 
@@ -217,18 +232,19 @@ void PathView::build_children(PathPoints points, uint32_t first, uint32_t last, 
     if (!splits(first, last, depth)) return;
     const uint32_t middle = first + (last - first) / 2;  // children share the middle point
     for (const auto& [lo, hi] : {std::pair{first, middle}, std::pair{middle, last}}) {
-        const ChildBox child = fit_child(points, lo, hi, center, reach);
+        const ChildBox child = fit_child(points, lo, hi, !splits(lo, hi, depth + 1), center, reach);
         out.push_back(child);
         build_children(points, lo, hi, depth + 1, center_of(child, center, reach), norm(half_of(child, reach)), out);
     }
 }
 
-ChildBox PathView::fit_child(PathPoints points, uint32_t first, uint32_t last, const Vec3& parent_center,
+ChildBox PathView::fit_child(PathPoints points, uint32_t first, uint32_t last, bool leaf, const Vec3& parent_center,
                              double parent_reach) {
     const auto point = [&](uint32_t k) { return Vec3{points.xyz[3 * k], points.xyz[3 * k + 1], points.xyz[3 * k + 2]}; };
     ChildBox box{};
-    Vec3 mean;
-    const Quat rotation = fitted_rotation(points, first, last, kChildAxesTolerance, mean);
+    Vec3 mean = point(first);  // any point of the run will do to measure the extents from
+    const Quat rotation =
+        leaf ? chord_rotation(points, first, last) : fitted_rotation(points, first, last, kChildAxesTolerance, mean);
     for (int c = 0; c < 4; ++c) box.rotation[c] = static_cast<int8_t>(std::lround(rotation[c] * 127.0));
     const std::array<Vec3, 3> axes = axes_of(box);
     // The centre of the points' extents along the axes, as the parent's reach allows it to be put:

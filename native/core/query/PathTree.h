@@ -116,7 +116,7 @@ private:
     static void build_children(PathPoints points, uint32_t first, uint32_t last, int depth, const Vec3& center,
                                double reach, std::vector<ChildBox>& out);
     /// Fits a child box over points first..last within its parent's centre and reach.
-    static ChildBox fit_child(PathPoints points, uint32_t first, uint32_t last, const Vec3& parent_center,
+    static ChildBox fit_child(PathPoints points, uint32_t first, uint32_t last, bool leaf, const Vec3& parent_center,
                               double parent_reach);
 
     /// Node `node` (1 and up: children_[node - 1]) over points first..last, below a parent of
