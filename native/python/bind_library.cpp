@@ -229,8 +229,9 @@ void bind_library(py::module_& m) {
                  const size_t bodies = body_rows(l, world);
                  py::array_t<float> out({static_cast<py::ssize_t>(bodies), static_cast<py::ssize_t>(world.polyline_points),
                                          py::ssize_t{3}});
-                 std::fill_n(out.mutable_data(), out.size(), std::numeric_limits<float>::quiet_NaN());
-                 std::copy(world.polyline.begin(), world.polyline.end(), out.mutable_data());
+                 std::vector<uint32_t> all(bodies);
+                 for (uint32_t b = 0; b < bodies; ++b) all[b] = b;
+                 gather_polylines({&world}, all, 1, world.polyline_points, out.mutable_data());
                  return out;
              },
              py::arg("world"),

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "BenchReport.h"
+#include "common/QuantizedPolyline.h"
 #include "query/PathIndex.h"
 #include "sim/PortableRandom.h"
 
@@ -48,7 +49,7 @@ int main(int argc, char** argv) {
     std::printf("Path index: %d worlds x %d bodies x 10 s, 30 Hz polylines (synthetic bouncing paths)\n", worlds, bodies);
     // The paths live outside the index, as the library's polylines do in the add-on (one buffer
     // per world, drawn from the same memory); the index borrows them and keeps only its boxes.
-    std::vector<std::vector<float>> world_points(static_cast<size_t>(worlds));
+    std::vector<std::vector<uint16_t>> world_points(static_cast<size_t>(worlds));
     std::vector<IndexedWorldInput> inputs(static_cast<size_t>(worlds));
     PortableRandom random(5);
     size_t path_bytes = 0;
@@ -56,16 +57,19 @@ int main(int argc, char** argv) {
         IndexedWorldInput& in = inputs[static_cast<size_t>(w)];
         in.world_index = static_cast<uint64_t>(w);
         in.last_frame = (kPointsPerPath - 1) * 4;
-        std::vector<float>& points = world_points[static_cast<size_t>(w)];
-        points.reserve(size_t{kPointsPerPath} * 3 * static_cast<size_t>(bodies));
+        // Quantized to 16 bits per coordinate, as the library keeps them.
+        const size_t words = quantized::block_words(kPointsPerPath);
+        std::vector<uint16_t>& points = world_points[static_cast<size_t>(w)];
+        points.resize(words * static_cast<size_t>(bodies));
         for (int b = 0; b < bodies; ++b) {
             const std::vector<float> path = bouncing_path(random);
-            points.insert(points.end(), path.begin(), path.end());
+            quantized::encode(kPointsPerPath, [&](uint32_t k, int a) { return path[3 * size_t{k} + a]; },
+                              points.data() + words * static_cast<size_t>(b));
             in.final_orientations.push_back({1, 0, 0, 0});
         }
         for (int b = 0; b < bodies; ++b)
-            in.borrowed.push_back({points.data() + size_t{kPointsPerPath} * 3 * static_cast<size_t>(b), kPointsPerPath});
-        path_bytes += points.size() * sizeof(float);
+            in.borrowed.push_back({points.data() + words * static_cast<size_t>(b), kPointsPerPath});
+        path_bytes += points.size() * sizeof(uint16_t);
     }
     PathIndex index(std::vector<double>(static_cast<size_t>(bodies), 0.2));
     auto start = std::chrono::steady_clock::now();
@@ -75,7 +79,7 @@ int main(int argc, char** argv) {
     report("index_memory_mb_" + size, static_cast<double>(index.memory_bytes()) / (1 << 20), "MB",
            "boxes, roots and metrics; the points are the library's");
     report("path_points_mb_" + size, static_cast<double>(path_bytes) / (1 << 20), "MB",
-           "the float polylines the index reads, held by the library for drawing");
+           "the 16-bit polylines the index reads, held by the library for drawing");
 
     // The camera looks down at the scene from 12 m; boxes of a fifth of the screen.
     const Matrix4 view{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, -12, 0, 0, 0, 1};

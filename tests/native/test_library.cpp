@@ -9,6 +9,7 @@
 #include "SceneFixtures.h"
 #include "TestFolder.h"
 #include "common/BuildInfo.h"
+#include "common/QuantizedPolyline.h"
 #include "library/ByteIO.h"
 #include "library/LibraryFormat.h"
 #include "library/LibraryMerge.h"
@@ -132,11 +133,15 @@ TEST_F(Library, PolylineIsDerivedOnLoadFromTheDecodedPath) {
         ASSERT_EQ(world.polyline_points, (world.frame_count - 1 + 3) / 4 + 1);
         const std::vector<double> positions = decode_world_positions(world);
         const size_t track = world.tracks.size() - 1;
+        const uint16_t* block = world.polyline.data() + track * quantized::block_words(world.polyline_points);
+        const quantized::Header header = quantized::header(block);
         for (uint32_t p = 0; p < world.polyline_points; ++p) {
             const size_t frame = std::min<size_t>(p * 4, world.frame_count - 1);
+            const Vec3 point = quantized::point(header, block, p);
+            // Within half a 16-bit step of its bounding box (and the single-precision header).
             for (int k = 0; k < 3; ++k)
-                EXPECT_EQ(world.polyline[(track * world.polyline_points + p) * 3 + k],
-                          static_cast<float>(positions[(track * world.frame_count + frame) * 3 + k]));
+                EXPECT_NEAR(point[k], positions[(track * world.frame_count + frame) * 3 + k],
+                            header.step[k] * 0.5 + 1e-6);
         }
     }
 }

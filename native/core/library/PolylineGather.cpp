@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <limits>
 
+#include "common/QuantizedPolyline.h"
+
 namespace mwb {
 
 uint32_t kept_point_count(uint32_t points, uint32_t stride) {
@@ -26,16 +28,19 @@ void gather_polylines(const std::vector<const StoredWorld*>& worlds, const std::
         const StoredWorld& world = *worlds[w];
         const uint32_t points = world.polyline_points;
         const uint32_t kept = kept_point_count(points, stride);
-        const size_t tracks = points == 0 ? 0 : world.polyline.size() / (size_t{points} * 3);
+        const size_t words = quantized::block_words(points);
+        const size_t tracks = points == 0 ? 0 : world.polyline.size() / words;
         for (size_t b = 0; b < bodies.size(); ++b) {
             const uint32_t body = bodies[b];
-            // Absent tracks already hold NaN in the polyline; bodies past the tracks stay NaN.
+            // Absent tracks and bodies past the tracks stay NaN.
             if (body >= tracks) continue;
-            const float* path = world.polyline.data() + size_t{body} * points * 3;
+            const uint16_t* block = world.polyline.data() + size_t{body} * words;
+            if (quantized::absent(block)) continue;
+            const quantized::Header header = quantized::header(block);
             float* target = out + (w * bodies.size() + b) * path_floats;
             for (uint32_t k = 0; k < kept; ++k) {
-                const size_t point = std::min<size_t>(size_t{k} * stride, points - 1);
-                std::copy_n(path + point * 3, 3, target + size_t{k} * 3);
+                const Vec3 p = quantized::point(header, block, std::min<size_t>(size_t{k} * stride, points - 1));
+                for (int a = 0; a < 3; ++a) target[size_t{k} * 3 + static_cast<size_t>(a)] = static_cast<float>(p[a]);
             }
         }
     }

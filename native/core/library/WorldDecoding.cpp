@@ -7,6 +7,7 @@
 #include "codec/CodecError.h"
 #include "codec/PositionDecoder.h"
 #include "codec/RotationDecoder.h"
+#include "common/QuantizedPolyline.h"
 
 namespace mwb {
 namespace {
@@ -61,13 +62,21 @@ void derive_polyline(StoredWorld& world, double rate_hz) {
     const uint32_t stride = std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(world.record_hz / rate_hz)));
     const uint32_t points = frames == 0 ? 0 : (frames - 1 + stride - 1) / stride + 1;
     const std::vector<double> positions = decode_world_positions(world);
-    world.polyline.assign(world.tracks.size() * points * 3, 0.0f);
+    const size_t words = quantized::block_words(points);
+    world.polyline.assign(world.tracks.size() * words, 0);
     for (size_t t = 0; t < world.tracks.size(); ++t) {
-        for (uint32_t p = 0; p < points; ++p) {
-            const size_t frame = std::min<size_t>(size_t{p} * stride, frames - 1);
-            for (int k = 0; k < 3; ++k)
-                world.polyline[(t * points + p) * 3 + k] = static_cast<float>(positions[(t * frames + frame) * 3 + k]);
+        uint16_t* block = world.polyline.data() + t * words;
+        if (!world.tracks[t].present) {
+            quantized::encode_absent(points, block);
+            continue;
         }
+        quantized::encode(
+            points,
+            [&](uint32_t p, int axis) {
+                const size_t frame = std::min<size_t>(size_t{p} * stride, frames - 1);
+                return positions[(t * frames + frame) * 3 + static_cast<size_t>(axis)];
+            },
+            block);
     }
     world.polyline_points = points;
     world.polyline_stride = stride;

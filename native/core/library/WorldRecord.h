@@ -56,8 +56,10 @@ struct StoredWorld {
     std::vector<RefineStep> lineage;    ///< refined worlds: every refinement from the root, this one last
     std::vector<uint32_t> absent;       ///< scene bodies below scene_body_count this world does not have
     /// Derived on load, not stored: each track's origin path down-sampled for drawing and
-    /// queries, (tracks, polyline_points, 3) float32; every polyline_stride-th frame plus the last.
-    std::vector<float> polyline;
+    /// queries, every polyline_stride-th frame plus the last, one block per track of
+    /// quantized::block_words(polyline_points) words (16 bits per coordinate, see
+    /// common/QuantizedPolyline.h); an absent track's block says so.
+    std::vector<uint16_t> polyline;
     uint32_t polyline_points = 0;
     uint32_t polyline_stride = 0;
 };

@@ -54,9 +54,15 @@ std::unique_ptr<PathIndex::World> PathIndex::build_world(IndexedWorldInput&& inp
     if (borrowed) {
         points = input.borrowed;
     } else {
-        world->held_points = std::move(input.polylines);
-        for (size_t b = 0; b < count; ++b)
-            points[b] = {world->held_points[b].data(), static_cast<uint32_t>(world->held_points[b].size() / 3)};
+        world->held_points.resize(count);
+        for (size_t b = 0; b < count; ++b) {
+            const std::vector<float>& polyline = input.polylines[b];
+            const auto n = static_cast<uint32_t>(polyline.size() / 3);
+            std::vector<uint16_t>& block = world->held_points[b];
+            block.resize(quantized::block_words(n));
+            quantized::encode(n, [&](uint32_t k, int a) { return polyline[3 * size_t{k} + a]; }, block.data());
+            points[b] = {block.data(), n};
+        }
     }
     uint32_t child_total = 0;
     for (const PathPoints& p : points) child_total += PathView::child_count(p.count);
@@ -65,7 +71,7 @@ std::unique_ptr<PathIndex::World> PathIndex::build_world(IndexedWorldInput&& inp
     for (size_t b = 0; b < count; ++b) {
         World::Root& root = world->roots[b];
         root.first_child = static_cast<uint32_t>(world->children.size());
-        root.points = points[b].xyz;
+        root.points = points[b].block;
         root.point_count = points[b].count;
         root.box = PathBox{};
         if (points[b].count > 0) PathView::build_boxes(points[b], root.box, world->children);
@@ -127,7 +133,7 @@ size_t PathIndex::memory_bytes() const {
     for (const auto& w : worlds_) {
         bytes += sizeof(World) + w->roots.capacity() * sizeof(World::Root) + w->children.capacity() * sizeof(ChildBox) +
                  w->final_orientations.capacity() * sizeof(Quat);
-        for (const auto& p : w->held_points) bytes += p.capacity() * sizeof(float);
+        for (const auto& p : w->held_points) bytes += p.capacity() * sizeof(uint16_t);
         for (const auto& m : w->metric_values) bytes += m.capacity() * sizeof(double);
     }
     return bytes;

@@ -35,7 +35,8 @@ struct IndexedWorldInput {
     double record_hz = 120;
     /// The run's end, seconds: a world that ended earlier (at rest) holds its final pose up to it.
     double hold_until_s = 0;
-    std::vector<std::vector<float>> polylines;  ///< per body, flat (points, 3); the index keeps them
+    /// Per body, flat (points, 3); the index keeps them, quantized to 16 bits per coordinate.
+    std::vector<std::vector<float>> polylines;
     /// Instead of polylines: per body, points owned elsewhere (the library's polylines, drawn
     /// from the same memory), which must stay unchanged while the index lives. The index then
     /// holds only its boxes.
@@ -105,13 +106,13 @@ private:
         struct alignas(64) Root {
             std::array<float, 4> sphere;
             PathBox box;
-            const float* points;
+            const uint16_t* points;  ///< a quantized block (common/QuantizedPolyline.h)
             uint32_t first_child;
             uint32_t point_count;
         };
         std::vector<Root> roots;
         std::vector<ChildBox> children;  ///< every path's boxes below its root, path after path
-        std::vector<std::vector<float>> held_points;  ///< the points of paths given as polylines
+        std::vector<std::vector<uint16_t>> held_points;  ///< the points of paths given as polylines
         std::vector<Quat> final_orientations;
         std::vector<std::string> metric_names;
         std::vector<std::vector<double>> metric_values;

@@ -120,15 +120,14 @@ Vec3 half_of(const ChildBox& box, double parent_reach) {
 
 // The principal axes of points first..last as a unit quaternion (mean and covariance in one pass).
 // The axes need only be good, so a long run's covariance is taken over every step-th point.
-Quat fitted_rotation(PathPoints points, uint32_t first, uint32_t last, double tolerance, Vec3& mean) {
-    const auto point = [&](uint32_t k) { return Vec3{points.xyz[3 * k], points.xyz[3 * k + 1], points.xyz[3 * k + 2]}; };
+Quat fitted_rotation(const Vec3* point, uint32_t first, uint32_t last, double tolerance, Vec3& mean) {
     Vec3 sum{0, 0, 0};
     std::array<double, 6> products{};  // xx, xy, xz, yy, yz, zz
-    const Vec3 origin = point(first);  // offsets from a path point keep the sums well conditioned
+    const Vec3 origin = point[first];  // offsets from a path point keep the sums well conditioned
     const uint32_t step = std::max<uint32_t>(1, (last - first) / kCovarianceSamples);
     double n = 0;
     for (uint32_t k = first; k <= last; k += step, ++n) {
-        const Vec3 d = sub(point(k), origin);
+        const Vec3 d = sub(point[k], origin);
         sum = add(sum, d);
         products[0] += d[0] * d[0];
         products[1] += d[0] * d[1];
@@ -148,12 +147,11 @@ Quat fitted_rotation(PathPoints points, uint32_t first, uint32_t last, double to
 
 // A leaf's axes without a covariance: along its chord, then towards its middle point, which for a
 // short run of a path is about what the principal axes are.
-Quat chord_rotation(PathPoints points, uint32_t first, uint32_t last) {
-    const auto point = [&](uint32_t k) { return Vec3{points.xyz[3 * k], points.xyz[3 * k + 1], points.xyz[3 * k + 2]}; };
-    Vec3 x = sub(point(last), point(first));
+Quat chord_rotation(const Vec3* point, uint32_t first, uint32_t last) {
+    Vec3 x = sub(point[last], point[first]);
     const double length = norm(x);
     x = length > 1e-9 ? scale(x, 1 / length) : Vec3{1, 0, 0};
-    Vec3 y = sub(point(first + (last - first) / 2), point(first));
+    Vec3 y = sub(point[first + (last - first) / 2], point[first]);
     y = sub(y, scale(x, dot(x, y)));
     const double height = norm(y);
     y = height > 1e-9 ? scale(y, 1 / height) : (std::fabs(x[0]) < 0.9 ? cross(x, {1, 0, 0}) : cross(x, {0, 1, 0}));
@@ -186,12 +184,15 @@ PathView::PathView(const PathBox* root, const ChildBox* children, PathPoints poi
                    uint32_t last_frame, double record_hz, double hold_until_s)
     : root_(root),
       children_(children),
-      points_(points.xyz),
+      block_(points.block),
       point_count_(points.count),
       stride_(std::max<uint32_t>(1, stride)),
       last_frame_(last_frame),
       record_hz_(record_hz) {
-    if (point_count_ > 0) hold_end_s_ = std::max(time_of(point_count_ - 1), hold_until_s);
+    if (point_count_ > 0) {
+        header_ = quantized::header(block_);
+        hold_end_s_ = std::max(time_of(point_count_ - 1), hold_until_s);
+    }
 }
 
 uint32_t PathView::child_count(uint32_t point_count) {
@@ -199,15 +200,20 @@ uint32_t PathView::child_count(uint32_t point_count) {
 }
 
 void PathView::build_boxes(PathPoints points, PathBox& root, std::vector<ChildBox>& children) {
-    const auto point = [&](uint32_t k) { return Vec3{points.xyz[3 * k], points.xyz[3 * k + 1], points.xyz[3 * k + 2]}; };
+    // Decoded once: every level of the tree passes over the points.
+    thread_local std::vector<Vec3> decoded;
+    decoded.resize(points.count);
+    const quantized::Header header = quantized::header(points.block);
+    for (uint32_t k = 0; k < points.count; ++k) decoded[k] = quantized::point(header, points.block, k);
+    const Vec3* point = decoded.data();
     const uint32_t last = points.count - 1;
     Vec3 mean;
-    const Quat rotation = fitted_rotation(points, 0, last, kRootAxesTolerance, mean);
+    const Quat rotation = fitted_rotation(point, 0, last, kRootAxesTolerance, mean);
     for (int c = 0; c < 4; ++c) root.rotation[c] = static_cast<int16_t>(std::lround(rotation[c] * 32767.0));
     const std::array<Vec3, 3> axes = axes_of(root);
     Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
     for (uint32_t k = 0; k <= last; ++k) {
-        const Vec3 d = sub(point(k), mean);
+        const Vec3 d = sub(point[k], mean);
         for (int a = 0; a < 3; ++a) {
             const double along = dot(d, axes[a]);
             lo[a] = std::min(lo[a], along);
@@ -224,10 +230,10 @@ void PathView::build_boxes(PathPoints points, PathBox& root, std::vector<ChildBo
     for (int a = 0; a < 3; ++a) half[a] = (hi[a] - lo[a]) / 2 + std::fabs(dot(shift, axes[a]));
     const double reach = norm(half);
     for (int a = 0; a < 3; ++a) root.half_extents[a] = static_cast<float>(padded(half[a], reach));
-    build_children(points, 0, last, 0, center_of(root), norm(half_of(root)), children);
+    build_children(point, 0, last, 0, center_of(root), norm(half_of(root)), children);
 }
 
-void PathView::build_children(PathPoints points, uint32_t first, uint32_t last, int depth, const Vec3& center,
+void PathView::build_children(const Vec3* points, uint32_t first, uint32_t last, int depth, const Vec3& center,
                               double reach, std::vector<ChildBox>& out) {
     if (!splits(first, last, depth)) return;
     const uint32_t middle = first + (last - first) / 2;  // children share the middle point
@@ -238,20 +244,19 @@ void PathView::build_children(PathPoints points, uint32_t first, uint32_t last, 
     }
 }
 
-ChildBox PathView::fit_child(PathPoints points, uint32_t first, uint32_t last, bool leaf, const Vec3& parent_center,
+ChildBox PathView::fit_child(const Vec3* point, uint32_t first, uint32_t last, bool leaf, const Vec3& parent_center,
                              double parent_reach) {
-    const auto point = [&](uint32_t k) { return Vec3{points.xyz[3 * k], points.xyz[3 * k + 1], points.xyz[3 * k + 2]}; };
     ChildBox box{};
-    Vec3 mean = point(first);  // any point of the run will do to measure the extents from
+    Vec3 mean = point[first];  // any point of the run will do to measure the extents from
     const Quat rotation =
-        leaf ? chord_rotation(points, first, last) : fitted_rotation(points, first, last, kChildAxesTolerance, mean);
+        leaf ? chord_rotation(point, first, last) : fitted_rotation(point, first, last, kChildAxesTolerance, mean);
     for (int c = 0; c < 4; ++c) box.rotation[c] = static_cast<int8_t>(std::lround(rotation[c] * 127.0));
     const std::array<Vec3, 3> axes = axes_of(box);
     // The centre of the points' extents along the axes, as the parent's reach allows it to be put:
     // it lies within the parent's box, so within one reach of the parent's centre.
     Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
     for (uint32_t k = first; k <= last; ++k) {
-        const Vec3 d = sub(point(k), mean);
+        const Vec3 d = sub(point[k], mean);
         for (int a = 0; a < 3; ++a) {
             const double along = dot(d, axes[a]);
             lo[a] = std::min(lo[a], along);
@@ -289,12 +294,14 @@ double PathView::time_of(size_t k) const {
     return static_cast<double>(std::min<uint64_t>(uint64_t{k} * stride_, last_frame_)) / record_hz_;
 }
 
-PathTree::PathTree(std::vector<float> points, uint32_t stride, uint32_t last_frame, double record_hz,
-                   double hold_until_s)
-    : held_points_(std::move(points)) {
-    const PathPoints own{held_points_.data(), static_cast<uint32_t>(held_points_.size() / 3)};
-    if (own.count > 0) {
-        held_children_.reserve(child_count(own.count));
+PathTree::PathTree(const std::vector<float>& points, uint32_t stride, uint32_t last_frame, double record_hz,
+                   double hold_until_s) {
+    const auto count = static_cast<uint32_t>(points.size() / 3);
+    held_block_.resize(quantized::block_words(count));
+    quantized::encode(count, [&](uint32_t k, int a) { return points[3 * size_t{k} + a]; }, held_block_.data());
+    const PathPoints own{held_block_.data(), count};
+    if (count > 0) {
+        held_children_.reserve(child_count(count));
         build_boxes(own, held_root_, held_children_);
     }
     static_cast<PathView&>(*this) =
@@ -302,15 +309,15 @@ PathTree::PathTree(std::vector<float> points, uint32_t stride, uint32_t last_fra
 }
 
 PathTree::PathTree(const PathTree& other)
-    : PathView(other), held_points_(other.held_points_), held_root_(other.held_root_),
+    : PathView(other), held_block_(other.held_block_), held_root_(other.held_root_),
       held_children_(other.held_children_) {
-    rebind(&held_root_, held_children_.data(), held_points_.data());
+    rebind(&held_root_, held_children_.data(), held_block_.data());
 }
 
 PathTree::PathTree(PathTree&& other) noexcept
-    : PathView(other), held_points_(std::move(other.held_points_)), held_root_(other.held_root_),
+    : PathView(other), held_block_(std::move(other.held_block_)), held_root_(other.held_root_),
       held_children_(std::move(other.held_children_)) {
-    rebind(&held_root_, held_children_.data(), held_points_.data());
+    rebind(&held_root_, held_children_.data(), held_block_.data());
 }
 
 bool PathView::touches(const Frustum& frustum, const TimeWindow& window, double radius, const BoxSide* root) const {
@@ -362,7 +369,7 @@ double PathView::node_first_touch(uint32_t node, uint32_t first, uint32_t last, 
     if (!whole_path(t_lo, t_hi) && (end_of(last) < t_lo || time_of(first) > t_hi))
         return std::numeric_limits<double>::infinity();
     // A leaf's points are needed if its box crosses: they load while the box is tested.
-    if (!splits(first, last, depth)) __builtin_prefetch(points_ + 3 * first);
+    if (!splits(first, last, depth)) __builtin_prefetch(block_ + quantized::kHeaderWords + 3 * first);
     const ChildBox& box = children_[node - 1];
     const Vec3 center = center_of(box, parent_center, parent_reach);
     const Vec3 half = half_of(box, parent_reach);

@@ -8,13 +8,15 @@
 #include <cstdint>
 #include <vector>
 
+#include "common/QuantizedPolyline.h"
 #include "query/Frustum.h"
 
 namespace mwb {
 
-/// A path's points owned elsewhere: flat (count, 3) float32.
+/// A path's points owned elsewhere: a block of quantized::block_words(count) words (see
+/// common/QuantizedPolyline.h).
 struct PathPoints {
-    const float* xyz = nullptr;
+    const uint16_t* block = nullptr;
     uint32_t count = 0;
 };
 
@@ -89,18 +91,18 @@ public:
     static BoxSide box_side(const PathBox& box, const Frustum& frustum, double radius);
 
     size_t point_count() const { return point_count_; }
-    /// Point k as given. Tree and brute force both see exactly these points.
-    Vec3 point(size_t k) const { return {points_[3 * k], points_[3 * k + 1], points_[3 * k + 2]}; }
+    /// Point k as stored (16 bits per coordinate). Tree and brute force both see exactly these points.
+    Vec3 point(size_t k) const { return quantized::point(header_, block_, k); }
     double time_of(size_t k) const;
     /// Time up to which the path has a pose: its last point's time, or later while that pose is held.
     double end_time_s() const { return hold_end_s_; }
 
 protected:
     /// Points the view at a copy of what it viewed.
-    void rebind(const PathBox* root, const ChildBox* children, const float* points) {
+    void rebind(const PathBox* root, const ChildBox* children, const uint16_t* block) {
         root_ = root;
         children_ = children;
-        points_ = points;
+        block_ = block;
     }
 
 private:
@@ -113,10 +115,10 @@ private:
     static uint32_t subtree_nodes(uint32_t first, uint32_t last, int depth);
     /// Appends the boxes below a node over points first..last at `depth`, whose decoded centre
     /// and reach are given.
-    static void build_children(PathPoints points, uint32_t first, uint32_t last, int depth, const Vec3& center,
+    static void build_children(const Vec3* points, uint32_t first, uint32_t last, int depth, const Vec3& center,
                                double reach, std::vector<ChildBox>& out);
     /// Fits a child box over points first..last within its parent's centre and reach.
-    static ChildBox fit_child(PathPoints points, uint32_t first, uint32_t last, bool leaf, const Vec3& parent_center,
+    static ChildBox fit_child(const Vec3* points, uint32_t first, uint32_t last, bool leaf, const Vec3& parent_center,
                               double parent_reach);
 
     /// Node `node` (1 and up: children_[node - 1]) over points first..last, below a parent of
@@ -138,7 +140,8 @@ private:
 
     const PathBox* root_ = nullptr;
     const ChildBox* children_ = nullptr;
-    const float* points_ = nullptr;
+    const uint16_t* block_ = nullptr;
+    quantized::Header header_{};
     uint32_t point_count_ = 0;
     uint32_t stride_ = 1, last_frame_ = 0;
     double record_hz_ = 120;
@@ -148,7 +151,8 @@ private:
 /// A path that owns its points and its tree: for a path on its own, and for tests.
 class PathTree : public PathView {
 public:
-    PathTree(std::vector<float> points, uint32_t stride, uint32_t last_frame, double record_hz,
+    /// Over `points` (flat (n, 3)), which it keeps quantized to 16 bits per coordinate.
+    PathTree(const std::vector<float>& points, uint32_t stride, uint32_t last_frame, double record_hz,
              double hold_until_s = 0);
     PathTree(const PathTree& other);
     PathTree(PathTree&& other) noexcept;
@@ -156,7 +160,7 @@ public:
     PathTree& operator=(PathTree&&) = delete;
 
 private:
-    std::vector<float> held_points_;
+    std::vector<uint16_t> held_block_;
     PathBox held_root_{};
     std::vector<ChildBox> held_children_;
 };

@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "common/QuantizedPolyline.h"
 #include "library/WorldDecoding.h"
 
 namespace mwb {
@@ -14,7 +15,7 @@ IndexedWorldInput indexed_world_input(const LibraryReader& reader, const StoredW
     in.last_frame = w.frame_count - 1;
     in.record_hz = w.record_hz;
     in.hold_until_s = static_cast<double>(reader.run_last_frame()) / w.record_hz;
-    const size_t per_path = size_t{w.polyline_points} * 3;
+    const size_t per_path = quantized::block_words(w.polyline_points);
     for (size_t t = 0; t < w.tracks.size(); ++t) {
         if (!w.tracks[t].present) {
             in.borrowed.emplace_back();
