@@ -146,6 +146,38 @@ TEST_F(Library, PolylineIsDerivedOnLoadFromTheDecodedPath) {
     }
 }
 
+// The polylines drawn and queried are kept in 16 bits per coordinate: each point comes back
+// within half a step of its path's bounding box, however far from the origin the path is.
+TEST(QuantizedPolyline, PointsComeBackWithinHalfAStepOfTheirBoundingBox) {
+    PortableRandom random(31);
+    for (const double offset : {0.0, -37.0, 1000.0}) {
+        const uint32_t n = 301;
+        std::vector<double> xyz(3 * n);
+        for (double& v : xyz) v = offset + random.uniform(-20, 20);
+        std::vector<uint16_t> block(quantized::block_words(n));
+        quantized::encode(n, [&](uint32_t k, int a) { return xyz[3 * k + a]; }, block.data());
+        const quantized::Header h = quantized::header(block.data());
+        ASSERT_FALSE(quantized::absent(block.data()));
+        for (int a = 0; a < 3; ++a) EXPECT_LT(h.step[a], 40.0 / 65535 * 1.001) << "a step is 1/65535 of the extent";
+        for (uint32_t k = 0; k < n; ++k) {
+            const Vec3 p = quantized::point(h, block.data(), k);
+            for (int a = 0; a < 3; ++a) ASSERT_LE(std::fabs(p[a] - xyz[3 * k + a]), 0.51 * h.step[a]) << offset << " " << k;
+        }
+    }
+}
+
+TEST(QuantizedPolyline, ABodyAtRestStaysPutAndAnAbsentBodyIsMarked) {
+    const std::vector<float> rest{1.25f, -3.5f, 0.75f};
+    std::vector<uint16_t> block(quantized::block_words(40));
+    quantized::encode(40, [&](uint32_t, int a) { return rest[static_cast<size_t>(a)]; }, block.data());
+    for (size_t k = 0; k < 40; ++k) {
+        const Vec3 p = quantized::point(quantized::header(block.data()), block.data(), k);
+        for (int a = 0; a < 3; ++a) EXPECT_EQ(p[a], rest[static_cast<size_t>(a)]);
+    }
+    quantized::encode_absent(40, block.data());
+    EXPECT_TRUE(quantized::absent(block.data()));
+}
+
 TEST_F(Library, RandomAccessPoseEqualsTheFullDecode) {
     const std::string file = path("ramp.mwb");
     sample_into(file, fixtures::mesh_ramp_with_joints(), 0, 1);
