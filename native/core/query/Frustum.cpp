@@ -84,9 +84,10 @@ double Frustum::view_relative_distance(const Vec3& p, double radius) const {
 }
 
 int Frustum::classify_box(const Vec3& center, const std::array<Vec3, 3>& axes, const Vec3& half_extents,
-                          double radius, unsigned* crossing) const {
+                          double radius, unsigned* crossing, unsigned tested) const {
     unsigned not_inside = 0;
-    for (size_t i = 0; i < planes.size(); ++i) {
+    for (unsigned rest = tested & 0x3fu; rest != 0; rest &= rest - 1) {
+        const auto i = static_cast<size_t>(__builtin_ctz(rest));
         const Plane& plane = planes[i];
         const double reach = std::fabs(dot(plane.normal, axes[0])) * half_extents[0] +
                              std::fabs(dot(plane.normal, axes[1])) * half_extents[1] +

@@ -364,8 +364,8 @@ double PathView::segments_first_touch(uint32_t first, uint32_t last, const Frust
 }
 
 double PathView::node_first_touch(uint32_t node, uint32_t first, uint32_t last, int depth,
-                                  const Vec3& parent_center, double parent_reach, const Frustum& frustum, double t_lo,
-                                  double t_hi, double radius) const {
+                                  const Vec3& parent_center, double parent_reach, unsigned planes,
+                                  const Frustum& frustum, double t_lo, double t_hi, double radius) const {
     if (!whole_path(t_lo, t_hi) && (end_of(last) < t_lo || time_of(first) > t_hi))
         return std::numeric_limits<double>::infinity();
     // A leaf's points are needed if its box crosses: they load while the box is tested.
@@ -374,7 +374,8 @@ double PathView::node_first_touch(uint32_t node, uint32_t first, uint32_t last, 
     const Vec3 center = center_of(box, parent_center, parent_reach);
     const Vec3 half = half_of(box, parent_reach);
     BoxSide side;
-    side.side = frustum.classify_box(center, axes_of(box), half, radius, &side.crossing);
+    // Only the planes the parent crosses: its points, so this node's, are inside the others.
+    side.side = frustum.classify_box(center, axes_of(box), half, radius, &side.crossing, planes);
     return classified_first_touch(side, node, first, last, depth, center, half, frustum, t_lo, t_hi, radius);
 }
 
@@ -391,10 +392,11 @@ double PathView::classified_first_touch(BoxSide side, uint32_t node, uint32_t fi
     // The first child holds the earlier part of the path; the second follows its subtree.
     const uint32_t middle = first + (last - first) / 2;
     const double reach = norm(half);
-    const double early = node_first_touch(node + 1, first, middle, depth + 1, center, reach, frustum, t_lo, t_hi, radius);
+    const double early =
+        node_first_touch(node + 1, first, middle, depth + 1, center, reach, side.crossing, frustum, t_lo, t_hi, radius);
     if (std::isfinite(early)) return early;
     return node_first_touch(node + 1 + subtree_nodes(first, middle, depth + 1), middle, last, depth + 1, center, reach,
-                            frustum, t_lo, t_hi, radius);
+                            side.crossing, frustum, t_lo, t_hi, radius);
 }
 
 double PathView::first_touch_time(const Frustum& frustum, const TimeWindow& window, double radius,
