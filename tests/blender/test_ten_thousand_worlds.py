@@ -118,7 +118,7 @@ def test_the_full_index_answers_as_every_segment_does_without_copying_the_paths(
         assert np.array_equal(tree["boxes_satisfied"], brute["boxes_satisfied"])
         assert np.array_equal(tree["matching"], brute["matching"])
         assert 0.1 * WORLDS < len(tree["matching"]) < 0.9 * WORLDS, len(tree["matching"])
-    # The index keeps boxes, not points: less than half the library's 30 Hz paths it reads, where
-    # a copy of the points, even at 16 bits, would take half of them on its own.
+    # The index keeps boxes, not points: less than half of what the 30 Hz paths take as float32,
+    # where a copy of them at 16 bits (as the library keeps them) would take half on its own.
     points_bytes = sum(p.nbytes for p in sample) * 10
     assert index.memory_bytes < points_bytes / 2, (index.memory_bytes, points_bytes)
