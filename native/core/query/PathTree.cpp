@@ -189,10 +189,7 @@ PathView::PathView(const PathBox* root, const ChildBox* children, PathPoints poi
       stride_(std::max<uint32_t>(1, stride)),
       last_frame_(last_frame),
       record_hz_(record_hz) {
-    if (point_count_ > 0) {
-        header_ = quantized::header(block_);
-        hold_end_s_ = std::max(time_of(point_count_ - 1), hold_until_s);
-    }
+    if (point_count_ > 0) hold_end_s_ = std::max(time_of(point_count_ - 1), hold_until_s);
 }
 
 uint32_t PathView::child_count(uint32_t point_count) {
@@ -332,6 +329,8 @@ double PathView::segments_first_touch(uint32_t first, uint32_t last, const Frust
                                       double t_hi, double radius, unsigned planes) const {
     // Each point's side of every plane is found once (neighbouring segments share it): a segment
     // with both ends beyond one plane cannot touch, which is how Frustum::first_touch would answer.
+    const quantized::Header header = quantized::header(block_);
+    const auto point = [&](uint32_t k) { return quantized::point(header, block_, k); };
     const auto outside = [&](uint32_t k) {
         const Vec3 p = point(k);
         unsigned bits = 0;
@@ -369,7 +368,10 @@ double PathView::node_first_touch(uint32_t node, uint32_t first, uint32_t last, 
     if (!whole_path(t_lo, t_hi) && (end_of(last) < t_lo || time_of(first) > t_hi))
         return std::numeric_limits<double>::infinity();
     // A leaf's points are needed if its box crosses: they load while the box is tested.
-    if (!splits(first, last, depth)) __builtin_prefetch(block_ + quantized::kHeaderWords + 3 * first);
+    if (!splits(first, last, depth)) {
+        __builtin_prefetch(block_);
+        __builtin_prefetch(block_ + quantized::kHeaderWords + 3 * first);
+    }
     const ChildBox& box = children_[node - 1];
     const Vec3 center = center_of(box, parent_center, parent_reach);
     const Vec3 half = half_of(box, parent_reach);

@@ -92,7 +92,7 @@ public:
 
     size_t point_count() const { return point_count_; }
     /// Point k as stored (16 bits per coordinate). Tree and brute force both see exactly these points.
-    Vec3 point(size_t k) const { return quantized::point(header_, block_, k); }
+    Vec3 point(size_t k) const { return quantized::point(quantized::header(block_), block_, k); }
     double time_of(size_t k) const;
     /// Time up to which the path has a pose: its last point's time, or later while that pose is held.
     double end_time_s() const { return hold_end_s_; }
@@ -141,8 +141,8 @@ private:
 
     const PathBox* root_ = nullptr;
     const ChildBox* children_ = nullptr;
+    // The block's header is read where points are (a query the boxes decide never loads it).
     const uint16_t* block_ = nullptr;
-    quantized::Header header_{};
     uint32_t point_count_ = 0;
     uint32_t stride_ = 1, last_frame_ = 0;
     double record_hz_ = 120;
