@@ -34,11 +34,11 @@ struct Frustum {
     /// are drawn at any zoom, so closeness in box sizes means the same in every view.
     double view_relative_distance(const Vec3& p, double radius = 0) const;
     /// Classifies a box (centre, unit axes, half extents) grown by `radius` against the planes in
-    /// `planes` (bit i: planes[i]): -1 entirely outside one, +1 entirely inside all, 0 otherwise
-    /// (possibly crossing). With 0, `crossing` (if given) gets a bit per plane of `planes` the box
-    /// is not wholly inside.
+    /// `tested` (bit i: planes[i]): -1 entirely outside one, +1 entirely inside all, 0 otherwise
+    /// (possibly crossing). With 0, `crossing` (if given) gets a bit per tested plane the box is
+    /// not wholly inside.
     int classify_box(const Vec3& center, const std::array<Vec3, 3>& axes, const Vec3& half_extents, double radius,
-                     unsigned* crossing = nullptr, unsigned planes = 0x3f) const;
+                     unsigned* crossing = nullptr, unsigned tested = 0x3f) const;
 };
 
 /// The frustum of the screen rectangle [x0, x1] × [y0, y1] (pixels, origin at the bottom-left of

@@ -122,8 +122,7 @@ private:
                               double parent_reach);
 
     /// Node `node` (1 and up: children_[node - 1]) over points first..last, below a parent of
-    /// this centre and reach.
-    /// `planes`: the planes its parent crosses; the points lie inside the others.
+    /// this centre and reach that crosses `planes` (its points lie inside the others).
     double node_first_touch(uint32_t node, uint32_t first, uint32_t last, int depth, const Vec3& parent_center,
                             double parent_reach, unsigned planes, const Frustum& frustum, double t_lo, double t_hi,
                             double radius) const;
