@@ -159,6 +159,27 @@ Quat chord_rotation(const Vec3* point, uint32_t first, uint32_t last) {
     return rotation_onto({x, y, cross(x, y)});
 }
 
+// How far points first..last lie along each of `axes` from `from` (lo, hi), and the centre of
+// that box.
+struct Extents {
+    Vec3 lo, hi, center;
+};
+
+Extents extents_along(const Vec3* point, uint32_t first, uint32_t last, const Vec3& from,
+                      const std::array<Vec3, 3>& axes) {
+    Extents out{{1e300, 1e300, 1e300}, {-1e300, -1e300, -1e300}, from};
+    for (uint32_t k = first; k <= last; ++k) {
+        const Vec3 d = sub(point[k], from);
+        for (int a = 0; a < 3; ++a) {
+            const double along = dot(d, axes[a]);
+            out.lo[a] = std::min(out.lo[a], along);
+            out.hi[a] = std::max(out.hi[a], along);
+        }
+    }
+    for (int a = 0; a < 3; ++a) out.center = add(out.center, scale(axes[a], (out.lo[a] + out.hi[a]) / 2));
+    return out;
+}
+
 // Padding for the arithmetic of decoding and testing a box of this half extent at this scale.
 double padded(double half, double scale_m) { return half * (1 + 1e-6) + 1e-6 * (1 + scale_m); }
 
@@ -208,17 +229,10 @@ void PathView::build_boxes(PathPoints points, PathBox& root, std::vector<ChildBo
     const Quat rotation = fitted_rotation(point, 0, last, kRootAxesTolerance, mean);
     for (int c = 0; c < 4; ++c) root.rotation[c] = static_cast<int16_t>(std::lround(rotation[c] * 32767.0));
     const std::array<Vec3, 3> axes = axes_of(root);
-    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-    for (uint32_t k = 0; k <= last; ++k) {
-        const Vec3 d = sub(point[k], mean);
-        for (int a = 0; a < 3; ++a) {
-            const double along = dot(d, axes[a]);
-            lo[a] = std::min(lo[a], along);
-            hi[a] = std::max(hi[a], along);
-        }
-    }
-    Vec3 center = mean;
-    for (int a = 0; a < 3; ++a) center = add(center, scale(axes[a], (lo[a] + hi[a]) / 2));
+    const Extents extents = extents_along(point, 0, last, mean, axes);
+    const Vec3& lo = extents.lo;
+    const Vec3& hi = extents.hi;
+    const Vec3& center = extents.center;
     // Stored in single precision: around the rounded centre a point reaches at most half the
     // extent plus the rounding shift along each axis.
     for (int a = 0; a < 3; ++a) root.center[a] = static_cast<float>(center[a]);
@@ -251,17 +265,10 @@ ChildBox PathView::fit_child(const Vec3* point, uint32_t first, uint32_t last, b
     const std::array<Vec3, 3> axes = axes_of(box);
     // The centre of the points' extents along the axes, as the parent's reach allows it to be put:
     // it lies within the parent's box, so within one reach of the parent's centre.
-    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-    for (uint32_t k = first; k <= last; ++k) {
-        const Vec3 d = sub(point[k], mean);
-        for (int a = 0; a < 3; ++a) {
-            const double along = dot(d, axes[a]);
-            lo[a] = std::min(lo[a], along);
-            hi[a] = std::max(hi[a], along);
-        }
-    }
-    Vec3 center = mean;
-    for (int a = 0; a < 3; ++a) center = add(center, scale(axes[a], (lo[a] + hi[a]) / 2));
+    const Extents extents = extents_along(point, first, last, mean, axes);
+    const Vec3& lo = extents.lo;
+    const Vec3& hi = extents.hi;
+    const Vec3& center = extents.center;
     for (int a = 0; a < 3; ++a)
         box.offset[a] = static_cast<int16_t>(
             std::clamp(std::lround((center[a] - parent_center[a]) / parent_reach * 32767.0), -32767L, 32767L));
