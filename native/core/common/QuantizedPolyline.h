@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <vector>
 
 #include "common/Math.h"
 
@@ -62,6 +63,14 @@ void encode(uint32_t points, PointAt&& point, uint16_t* block) {
             steps[size_t{k} * 3 + a] = static_cast<uint16_t>(std::clamp(q, 0.0, 65535.0));
         }
     }
+}
+
+/// The block of a flat (n, 3) float32 polyline.
+inline std::vector<uint16_t> encode_flat(const std::vector<float>& xyz) {
+    const auto points = static_cast<uint32_t>(xyz.size() / 3);
+    std::vector<uint16_t> block(block_words(points));
+    encode(points, [&](uint32_t k, int a) { return xyz[3 * size_t{k} + static_cast<size_t>(a)]; }, block.data());
+    return block;
 }
 
 /// Point k of a block whose header is `h`, as every reader decodes it.

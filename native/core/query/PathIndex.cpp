@@ -56,12 +56,8 @@ std::unique_ptr<PathIndex::World> PathIndex::build_world(IndexedWorldInput&& inp
     } else {
         world->held_points.resize(count);
         for (size_t b = 0; b < count; ++b) {
-            const std::vector<float>& polyline = input.polylines[b];
-            const auto n = static_cast<uint32_t>(polyline.size() / 3);
-            std::vector<uint16_t>& block = world->held_points[b];
-            block.resize(quantized::block_words(n));
-            quantized::encode(n, [&](uint32_t k, int a) { return polyline[3 * size_t{k} + a]; }, block.data());
-            points[b] = {block.data(), n};
+            world->held_points[b] = quantized::encode_flat(input.polylines[b]);
+            points[b] = {world->held_points[b].data(), static_cast<uint32_t>(input.polylines[b].size() / 3)};
         }
     }
     uint32_t child_total = 0;

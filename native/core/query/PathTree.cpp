@@ -301,8 +301,7 @@ double PathView::time_of(size_t k) const {
 PathTree::PathTree(const std::vector<float>& points, uint32_t stride, uint32_t last_frame, double record_hz,
                    double hold_until_s) {
     const auto count = static_cast<uint32_t>(points.size() / 3);
-    held_block_.resize(quantized::block_words(count));
-    quantized::encode(count, [&](uint32_t k, int a) { return points[3 * size_t{k} + a]; }, held_block_.data());
+    held_block_ = quantized::encode_flat(points);
     const PathPoints own{held_block_.data(), count};
     if (count > 0) {
         held_children_.reserve(child_count(count));
