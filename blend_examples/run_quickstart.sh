@@ -5,7 +5,7 @@
 set -eu
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 BUILD=${MWB_BUILD_DIR:-$ROOT/build}
-"$ROOT/tests/setup.sh"
+"$ROOT/native/build.sh"
 OUT="$BUILD/quickstart"
 LIB="$OUT/quickstart.mwb"
 mkdir -p "$OUT"

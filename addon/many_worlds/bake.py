@@ -29,11 +29,10 @@ VISIBILITY_GROUP = "Many Worlds Visibility"
 VISIBILITY_PATHS = ("hide_viewport", "hide_render")
 
 
-def _write_channel(action, data_path, index, frames, values, group=GROUP):
-    fcurve = compat.find_fcurve(action, data_path, index)
-    if fcurve is not None:
-        action.fcurves.remove(fcurve)
-    fcurve = compat.new_fcurve(action, data_path, index, group)
+def _write_channel(ob, data_path, index, frames, values, group=GROUP):
+    """Key ob's data_path[index] at frames; its other channels (a keyed scale, a custom property)
+    stay as the animator keyed them."""
+    fcurve = compat.new_fcurve(ob, data_path, index, group)
     # The bulk path: one allocation and one array copy instead of a keyframe_insert per frame.
     fcurve.keyframe_points.add(len(frames))
     fcurve.keyframe_points.foreach_set("co", arrays.fcurve_points(frames, values))
@@ -41,34 +40,43 @@ def _write_channel(action, data_path, index, frames, values, group=GROUP):
     return fcurve
 
 
-def _action_of(ob, action_suffix):
-    if ob.animation_data is None:
-        ob.animation_data_create()
-    if ob.animation_data.action is None:
-        ob.animation_data.action = bpy.data.actions.new(f"{ob.name}{action_suffix}")
-    return ob.animation_data.action
+def animation_warnings(objects):
+    """One sentence per object whose keys the bake would also write for others: its action (slot)
+    is shared."""
+    warnings = []
+    for ob in objects:
+        others = compat.shares_animation(ob)
+        if others:
+            names = ", ".join(o.name for o in others)
+            warnings.append(f"{ob.name}: its animation is shared with {names}; "
+                            f"baking it gives {ob.name} an action of its own")
+    return warnings
+
+
+def _own_action(ob, action_suffix):
+    """ob's action, made its own first if other objects play the same keys (they keep theirs)."""
+    if compat.shares_animation(ob):
+        ob.animation_data.action = ob.animation_data.action.copy()
+    return compat.ensure_action(ob, f"{ob.name}{action_suffix}")
 
 
 def bake_objects(objects, frames, locations, rotations, action_suffix="MWB"):
     """Key objects[i] at frames with locations[i] (n, 3) and quaternions rotations[i] (n, 4)."""
     for ob, loc, rot in zip(objects, locations, rotations):
-        action = _action_of(ob, action_suffix)
+        _own_action(ob, action_suffix)
         ob.rotation_mode = "QUATERNION"
         for k in range(3):
-            _write_channel(action, "location", k, frames, loc[:, k])
+            _write_channel(ob, "location", k, frames, loc[:, k])
         for k in range(4):
-            _write_channel(action, "rotation_quaternion", k, frames, rot[:, k])
+            _write_channel(ob, "rotation_quaternion", k, frames, rot[:, k])
 
 
 def _remove_visibility_keys(ob):
     """Remove hide keys an earlier bake wrote (the user's own stay) and show the object again."""
-    action = ob.animation_data.action if ob.animation_data is not None else None
-    if action is None:
-        return
     for path in VISIBILITY_PATHS:
-        fcurve = compat.find_fcurve(action, path, 0)
+        fcurve = compat.find_fcurve(ob, path, 0)
         if fcurve is not None and fcurve.group is not None and fcurve.group.name == VISIBILITY_GROUP:
-            action.fcurves.remove(fcurve)
+            compat.remove_fcurve(ob, fcurve)
             # The keys last set the property; without them it would stay as they left it.
             setattr(ob, path, False)
 
@@ -77,9 +85,9 @@ def hide_objects(objects, frame_start, action_suffix="MWB"):
     """Key the objects shown up to frame_start - 1 and hidden from frame_start on (viewport and render)."""
     frames = np.array([frame_start - 1, frame_start], dtype=np.float64)
     for ob in objects:
-        action = _action_of(ob, action_suffix)
+        _own_action(ob, action_suffix)
         for path in VISIBILITY_PATHS:
-            fcurve = _write_channel(action, path, 0, frames, [0.0, 1.0], VISIBILITY_GROUP)
+            fcurve = _write_channel(ob, path, 0, frames, [0.0, 1.0], VISIBILITY_GROUP)
             for key in fcurve.keyframe_points:
                 key.interpolation = "CONSTANT"
 
@@ -110,7 +118,7 @@ def _objects_of(view, bodies):
 
 def bake_world(context, world):
     """Bake one world of the open library onto the scene's objects and hide the objects whose
-    bodies it does not have. Returns (baked object names, hidden object names)."""
+    bodies it does not have. Returns (baked object names, hidden object names, warnings)."""
     view = SESSION.view
     positions, orientations, record_hz = view.decoded(world)
     # Keys run to the end of the run: a world that came to rest holds its last pose there.
@@ -126,6 +134,7 @@ def bake_world(context, world):
     absent_simulated = {view.body_names[i] for i in simulated if not present[i]}
     handed = [ob for _, ob in pairs] + [ob for ob in absent if ob.name in absent_simulated]
     remember_setup(context, handed)
+    warnings = animation_warnings([ob for _, ob in pairs] + absent)
     if pairs:
         index = np.array([i for i, _ in pairs])
         loc, rot = arrays.sample_tracks(positions[index], orientations[index], world_frames)
@@ -135,7 +144,7 @@ def bake_world(context, world):
             _remove_visibility_keys(ob)
     hide_objects(absent, view.frame_start)
     hand_to_keys(handed)
-    return [ob.name for _, ob in pairs], [ob.name for ob in absent]
+    return [ob.name for _, ob in pairs], [ob.name for ob in absent], warnings
 
 
 class MWB_OT_bake_world(bpy.types.Operator):
@@ -154,7 +163,9 @@ class MWB_OT_bake_world(bpy.types.Operator):
         world = context.scene.mwb.selected_world
         # The preview moved the objects and switched the rigid body world off; put that back first.
         preview.end(context.scene)
-        names, hidden = bake_world(context, world)
+        names, hidden, warnings = bake_world(context, world)
+        for warning in warnings:
+            self.report({"WARNING"}, warning)
         if not names and not hidden:
             self.report({"WARNING"}, "No object of this world exists in the scene")
             return {"CANCELLED"}

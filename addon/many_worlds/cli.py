@@ -373,7 +373,9 @@ def command_bake(args):
     if args.world not in set(int(w) for w in view.world_indices):
         raise CliError(f"no world {args.world} in {args.library}")
     SESSION.view = view
-    names, hidden = bake.bake_world(bpy.context, args.world)
+    names, hidden, warnings = bake.bake_world(bpy.context, args.world)
+    for warning in warnings:
+        print(f"many_worlds: warning: {warning}", file=sys.stderr)
     out = os.path.abspath(args.out)
     bpy.ops.wm.save_as_mainfile(filepath=out, copy=True)
     extra = f" (hid {', '.join(hidden)}: not in this world)" if hidden else ""

@@ -1,4 +1,5 @@
-"""Every difference between Blender 3.4 and 4.2+ that the add-on meets, in one place."""
+"""Every difference between the Blender versions the add-on supports (3.4 to 5.2) that it meets,
+in one place."""
 import importlib
 
 import bpy
@@ -24,14 +25,124 @@ def temp_override(context, **kwargs):
     return context.temp_override(**kwargs)
 
 
-def new_fcurve(action, data_path, index, group):
-    """An F-curve on an action. Blender 4.4+ layers actions into slots, but `Action.fcurves`
-    still addresses the legacy single-slot view used by objects with one action."""
-    return action.fcurves.new(data_path, index=index, action_group=group)
+# --- animation ------------------------------------------------------------------------------
+# Blender 4.4 made every action slotted: an object plays the F-curves of its own slot
+# (animation_data.action_slot), kept in a channelbag on a strip of a layer. 5.0 removed the legacy
+# view (Action.fcurves, .groups, .id_root). 3.4 to 4.3 have the legacy API only. Every read and
+# write of an object's keys goes through the functions below, which take the object, not the
+# action, so no caller needs to know which API it runs on.
+SLOTTED_ACTIONS = bpy.app.version >= (4, 4, 0)
 
 
-def find_fcurve(action, data_path, index):
-    return action.fcurves.find(data_path, index=index)
+def _slot_of(ob):
+    """The object's action slot (4.4+), or None when it has none assigned."""
+    return ob.animation_data.action_slot
+
+
+def _channelbag(action, slot, ensure=False):
+    """The channelbag of slot on the action's first keyframe strip; made when ensure is set."""
+    for layer in action.layers:
+        for strip in layer.strips:
+            if strip.type == "KEYFRAME":
+                bag = strip.channelbag(slot, ensure=ensure)
+                if bag is not None:
+                    return bag
+    if not ensure:
+        return None
+    layer = action.layers[0] if len(action.layers) else action.layers.new("Layer")
+    strip = layer.strips[0] if len(layer.strips) else layer.strips.new(type="KEYFRAME")
+    return strip.channelbag(slot, ensure=True)
+
+
+def _action(ob):
+    data = ob.animation_data
+    return data.action if data is not None else None
+
+
+def _fcurves(action, slot):
+    if not SLOTTED_ACTIONS:
+        return list(action.fcurves)
+    bag = _channelbag(action, slot) if slot is not None else None
+    return list(bag.fcurves) if bag is not None else []
+
+
+def object_fcurves(ob):
+    """The F-curves that animate ob through its action (empty when it has none)."""
+    action = _action(ob)
+    return _fcurves(action, _slot_of(ob) if SLOTTED_ACTIONS else None) if action is not None else []
+
+
+def find_fcurve(ob, data_path, index=0):
+    """ob's F-curve of data_path[index], or None."""
+    return next((f for f in object_fcurves(ob) if f.data_path == data_path and f.array_index == index), None)
+
+
+def ensure_action(ob, name):
+    """ob's action, made (named name) when it has none; on 4.4+ with a slot of ob assigned."""
+    if ob.animation_data is None:
+        ob.animation_data_create()
+    data = ob.animation_data
+    if data.action is None:
+        data.action = bpy.data.actions.new(name)
+    if SLOTTED_ACTIONS and data.action_slot is None:
+        action = data.action
+        # A slot made for this object before (its name is the object's, prefixed "OB") is reused.
+        slot = next((s for s in action.slots if s.target_id_type in {"OBJECT", "UNSPECIFIED"}
+                     and s.name_display == ob.name), None)
+        data.action_slot = slot or action.slots.new(id_type="OBJECT", name=ob.name)
+    return data.action
+
+
+def new_fcurve(ob, data_path, index, group):
+    """A new, empty F-curve of data_path[index] for ob, in group, replacing the one there was.
+    The object's other F-curves stay as they are."""
+    old = find_fcurve(ob, data_path, index)
+    if old is not None:
+        remove_fcurve(ob, old)
+    action = _action(ob)
+    if not SLOTTED_ACTIONS:
+        return action.fcurves.new(data_path, index=index, action_group=group)
+    bag = _channelbag(action, _slot_of(ob), ensure=True)
+    fcurve = bag.fcurves.new(data_path, index=index)
+    fcurve.group = bag.groups.get(group) or bag.groups.new(group)
+    return fcurve
+
+
+def remove_fcurve(ob, fcurve):
+    action = _action(ob)
+    if not SLOTTED_ACTIONS:
+        action.fcurves.remove(fcurve)
+        return
+    _channelbag(action, _slot_of(ob)).fcurves.remove(fcurve)
+
+
+def shares_animation(ob):
+    """The other objects that play ob's keys (the same action, and on 4.4+ the same slot)."""
+    action = _action(ob)
+    if action is None:
+        return []
+    slot = _slot_of(ob) if SLOTTED_ACTIONS else None
+    return [other for other in bpy.data.objects
+            if other is not ob and other.animation_data is not None and other.animation_data.action == action
+            and (not SLOTTED_ACTIONS or other.animation_data.action_slot == slot)]
+
+
+def other_animation_of(ob, data_path):
+    """What else than ob's own action sets data_path: 'a driver', 'the NLA' or None. The add-on
+    reads only the keys of the object's active action."""
+    data = ob.animation_data
+    if data is None:
+        return None
+    if any(d.data_path == data_path for d in data.drivers):
+        return "a driver"
+    for track in data.nla_tracks:
+        for strip in track.strips:
+            if track.mute or strip.mute or strip.action is None:
+                continue
+            slot = strip.action_slot if SLOTTED_ACTIONS else None
+            if any(f.data_path == data_path for f in _fcurves(strip.action, slot)):
+                return "the NLA"
+    return None
 
 
 # `blender -c many_worlds COMMAND ...` (4.2+). Blender looks commands up before it reads `--addons`,

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 
 from mathutils import Matrix
 
+from . import compat
 from .props import upgrade_saved_variation
 
 SCENE_FORMAT = "mwb-scene"
@@ -79,8 +80,7 @@ def _prebake_matrix(ob):
 def _keyed_animated(ob, frame_start, frame_end):
     """Per frame of the range, whether the object's keyed "Animated" (rigid_body.kinematic) is on;
     None when it is not keyed."""
-    action = ob.animation_data.action if ob.animation_data is not None else None
-    curve = next((f for f in action.fcurves if f.data_path == "rigid_body.kinematic"), None) if action else None
+    curve = compat.find_fcurve(ob, "rigid_body.kinematic", 0)
     if curve is None:
         return None
     return [curve.evaluate(frame) >= 0.5 for frame in range(frame_start, frame_end + 1)]
@@ -193,6 +193,10 @@ class SceneExporter:
         passive body let go."""
         if _prebake_matrix(ob) is not None:
             return False, None  # a baked body: simulated, as it was before the bake
+        source = compat.other_animation_of(ob, "rigid_body.kinematic")
+        if source is not None:
+            self.report(ob.name, "kinematic", f"\"Animated\" set by {source} is not read; only the keys of the "
+                                              "object's own action are")
         flags = _keyed_animated(ob, frame_start, frame_end)
         if flags is None:
             return bool(ob.rigid_body.kinematic), None

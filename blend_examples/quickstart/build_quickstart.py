@@ -72,12 +72,14 @@ def build_gate(mats):
                mat=mats["peg"])
     rigid_body(gate, "PASSIVE", "BOX", friction=0.3)
     gate.rigid_body.kinematic = True
+    # Keys made linear as they are inserted (Preferences > Animation > Interpolation), the same on
+    # every Blender, legacy or slotted actions.
+    edit = bpy.context.preferences.edit
+    interpolation, edit.keyframe_new_interpolation_type = edit.keyframe_new_interpolation_type, "LINEAR"
     for frame, lift in ((FRAME_START, 0.0), (GATE_OPEN_FRAMES[0], 0.0), (GATE_OPEN_FRAMES[1], GATE_LIFT)):
         gate.location = closed + Vector((0, 0, lift))
         gate.keyframe_insert("location", frame=frame)
-    for fcurve in gate.animation_data.action.fcurves:
-        for key in fcurve.keyframe_points:
-            key.interpolation = "LINEAR"
+    edit.keyframe_new_interpolation_type = interpolation
     gate.location = closed
 
 

@@ -49,6 +49,12 @@ set(_ode_toolchain -DCMAKE_C_COMPILER=${CMAKE_C_COMPILER})
 if(CMAKE_TOOLCHAIN_FILE)
   list(APPEND _ode_toolchain -DCMAKE_TOOLCHAIN_FILE=${CMAKE_TOOLCHAIN_FILE})
 endif()
+# CMake 4 refuses projects that ask for a version below 3.5, as libccd 2.1 does; it builds the same
+# with the 3.5 policies (ODE itself uses autotools).
+set(_ccd_policy "")
+if(CMAKE_VERSION VERSION_GREATER_EQUAL 4.0)
+  set(_ccd_policy -DCMAKE_POLICY_VERSION_MINIMUM=3.5)
+endif()
 include(ExternalProject)
 if(POLICY CMP0135)
   # Extracted files keep the archive's times: ODE's generated configure and Makefile.in must stay
@@ -61,6 +67,7 @@ ExternalProject_Add(ccd_from_source
   URL_HASH SHA256=3543093486a8bdb7129e18d69d8f2b42e3056877521425210f9fe560789ebba5
   CMAKE_ARGS
     ${_ode_toolchain}
+    ${_ccd_policy}
     -DCMAKE_BUILD_TYPE=Release
     -DCMAKE_C_FLAGS=${_ode_flags}
     -DCMAKE_INSTALL_PREFIX=${MWB_ODE_INSTALL_DIR}

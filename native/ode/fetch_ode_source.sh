@@ -24,6 +24,18 @@ for f in /etc/apt/sources.list /etc/apt/sources.list.d/*.list; do
     sed -n -e 's/^[[:space:]]*deb[[:space:]]/deb-src /p' "$f" > "$APT/sources/$(basename "$f").list"
 done
 
+# Debian 13 and later package a newer ODE: the sources are Debian 12's, from the same mirror.
+if ! grep -qs bookworm "$APT"/sources/*; then
+    mirror=$(debian_mirror)
+    [ -z "$mirror" ] || cat > "$APT/sources/bookworm-source.sources" <<EOF
+Types: deb-src
+URIs: $mirror
+Suites: bookworm
+Components: main
+Signed-By: /usr/share/keyrings/debian-archive-keyring.gpg
+EOF
+fi
+
 # A third-party source without deb-src entries only makes update warn; both come from Debian's.
 apt_private "$APT" update || true
 

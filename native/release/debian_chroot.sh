@@ -57,8 +57,10 @@ ensure_chroot() {
     done
     [ -n "$_missing" ] || return 0
     cp /etc/resolv.conf "$_dir/etc/resolv.conf"
-    in_chroot "$_dir" apt-get update -qq &&
-        in_chroot "$_dir" apt-get install -y -qq --no-install-recommends $_missing > "$_dir.apt.log" 2>&1 || {
+    # A frozen copy of a suite (sid, here) can be past its Release file's Valid-Until date.
+    in_chroot "$_dir" apt-get -o Acquire::Check-Valid-Until=false update -qq &&
+        in_chroot "$_dir" apt-get -o Acquire::Check-Valid-Until=false install -y -qq \
+            --no-install-recommends $_missing > "$_dir.apt.log" 2>&1 || {
         tail -n 20 "$_dir.apt.log" >&2
         echo "apt-get install in $_dir failed:$_missing" >&2
         return 1
@@ -76,7 +78,8 @@ apt_private() {
     shift
     apt-get -o Dir::Etc::SourceList=/dev/null -o Dir::Etc::SourceParts="$_apt/sources" \
         -o Dir::State::Lists="$_apt/lists" -o Dir::Cache="$_apt/cache" -o Dir::State::status=/dev/null \
-        -o APT::Sandbox::User="$(id -un)" -o Debug::NoLocking=true -qq "$@"
+        -o APT::Sandbox::User="$(id -un)" -o Debug::NoLocking=true -o Acquire::Check-Valid-Until=false \
+        -qq "$@"
 }
 
 mount_checkout() {

@@ -9,7 +9,7 @@ import pytest
 
 from conftest import drop_scene, sample_and_wait, save_blend
 
-from many_worlds import _native
+from many_worlds import _native, compat
 from many_worlds.core.session import SESSION
 
 POSITION_BOUND_M = 0.001
@@ -76,7 +76,7 @@ def test_bake_writes_keys_that_match_the_world_and_removes_rigid_bodies(sampled)
         # The keys rule through "Animated"; the rigid body and its settings stay for sampling again.
         assert ob.rigid_body is not None and ob.rigid_body.kinematic
         assert ob.rotation_mode == "QUATERNION"
-        fcurves = {(f.data_path, f.array_index): f for f in ob.animation_data.action.fcurves}
+        fcurves = {(f.data_path, f.array_index): f for f in compat.object_fcurves(ob)}
         assert len(fcurves) == 7
         keys = fcurves[("location", 0)].keyframe_points
         assert len(keys) == last_frame and keys[0].co.x == 1 and keys[-1].co.x == last_frame
@@ -100,7 +100,7 @@ def test_a_world_that_came_to_rest_is_baked_and_previewed_at_rest_to_the_last_fr
         check_pose(ob, names, positions, orientations, positions.shape[1] - 1)
     assert bpy.ops.mwb.bake_world() == {"FINISHED"}
     for ob in boxes:
-        keys = ob.animation_data.action.fcurves[0].keyframe_points
+        keys = compat.find_fcurve(ob, "location", 0).keyframe_points
         assert keys[-1].co.x == scene.frame_end
     for frame in (math.ceil(world_end_frame) + 1, scene.frame_end):
         scene.frame_set(frame)
@@ -147,3 +147,67 @@ def test_bake_is_undoable(sampled):
         ob = bpy.data.objects[name]
         assert ob.rigid_body is not None and ob.rigid_body.type == "ACTIVE" and not ob.rigid_body.kinematic
         assert ob.animation_data is None or ob.animation_data.action is None
+
+
+def _keys(ob, data_path, index=0):
+    fcurve = compat.find_fcurve(ob, data_path, index)
+    assert fcurve is not None, f"{ob.name} has no {data_path}[{index}] keys"
+    return [tuple(k.co) for k in fcurve.keyframe_points]
+
+
+def test_bake_keeps_the_animators_own_keys_and_follows_the_world(tmp_path):
+    # The animator keyed the box's scale and a custom property before sampling: the bake writes
+    # its own channels (location, rotation) and leaves theirs as they were.
+    _, boxes = drop_scene(bodies=2)
+    box = boxes[0]
+    for frame in (1, 49):
+        box.keyframe_insert("scale", frame=frame)
+    box["glow"] = 0.0
+    box.keyframe_insert('["glow"]', frame=1)
+    box["glow"] = 1.0
+    box.keyframe_insert('["glow"]', frame=49)
+    own = {(path, k): _keys(box, path, k) for path, k in (("scale", 0), ("scale", 1), ("scale", 2), ('["glow"]', 0))}
+    save_blend(tmp_path)
+    sample_and_wait(2, seed=11)
+    scene = bpy.context.scene
+    bpy.ops.mwb.select_world(world=1)
+    assert bpy.ops.mwb.bake_world() == {"FINISHED"}
+    for (path, k), keys in own.items():
+        assert _keys(box, path, k) == keys, f"the bake changed the animator's {path}[{k}] keys"
+    assert len(_keys(box, "location", 2)) == scene.frame_end
+    names, positions, orientations, hz = raw_world(1)
+    scene.rigidbody_world.enabled = False  # the keys alone move the box
+    for frame in (1, 25, 49):
+        scene.frame_set(frame)
+        check_pose(box, names, positions, orientations, min(round((frame - 1) / 24 * hz), positions.shape[1] - 1))
+        assert box.scale.x == pytest.approx(0.1, abs=1e-6) and box["glow"] == pytest.approx((frame - 1) / 48, abs=1e-3)
+
+
+def test_baking_an_object_whose_animation_is_shared_warns_and_leaves_the_other_alone(tmp_path):
+    from many_worlds import bake
+    _, boxes = drop_scene(bodies=1)
+    box = boxes[0]
+    bpy.ops.object.empty_add(location=(2, 0, 0))
+    marker = bpy.context.active_object
+    marker.name = "Marker"
+    for frame in (1, 49):
+        box.keyframe_insert("scale", frame=frame)
+    # Object > Link/Transfer Data > Link Animation Data: the marker plays the box's keys.
+    bpy.ops.object.select_all(action="DESELECT")
+    marker.select_set(True)
+    box.select_set(True)
+    bpy.context.view_layer.objects.active = box
+    bpy.ops.object.make_links_data(type="ANIMATION")
+    assert marker.animation_data.action == box.animation_data.action
+    save_blend(tmp_path)
+    sample_and_wait(1, seed=2)
+    bpy.ops.mwb.select_world(world=0)
+    from many_worlds import preview
+    preview.end(bpy.context.scene)
+    names, hidden, warnings = bake.bake_world(bpy.context, 0)
+    assert names == [box.name] and hidden == []
+    assert any(w.startswith(f"{box.name}: its animation is shared with Marker") for w in warnings), warnings
+    assert marker.animation_data.action != box.animation_data.action
+    assert compat.find_fcurve(marker, "location", 0) is None, "the bake keyed the marker too"
+    assert len(_keys(marker, "scale", 0)) == 2
+    assert len(_keys(box, "scale", 0)) == 2 and len(_keys(box, "location", 0)) > 2

@@ -17,7 +17,7 @@ from conftest import add_rigid_body, cancel_after_finished, mesh_object, sample_
 from test_queries import PROJECTION, SIZE, VIEW, add_box, matching_worlds, to_screen
 from test_refining import pump, select_only
 
-from many_worlds import scene_boxes
+from many_worlds import compat, scene_boxes
 from many_worlds.core import arrays, paths
 from many_worlds.core import family as core_family
 from many_worlds.core.session import SESSION
@@ -234,9 +234,8 @@ def test_an_object_moved_after_sampling_is_updated_as_a_body_of_its_own(domino_s
     # Baking the updated world keys the ball from its new body and never hides it.
     bpy.ops.mwb.select_world(world=updated)
     assert bpy.ops.mwb.bake_world() == {"FINISHED"}
-    fcurves = ball.animation_data.action.fcurves
-    assert fcurves.find("location", index=0).evaluate(1) == pytest.approx(moved_start[0], abs=2e-3)
-    assert fcurves.find("hide_render") is None, "a world with the ball never hides it"
+    assert compat.find_fcurve(ball, "location", 0).evaluate(1) == pytest.approx(moved_start[0], abs=2e-3)
+    assert compat.find_fcurve(ball, "hide_render", 0) is None, "a world with the ball never hides it"
 
 
 def test_add_and_remove_wait_for_a_running_engine_and_need_a_library(domino_scene):
@@ -339,9 +338,9 @@ def test_bake_and_preview_of_a_world_without_the_lower_box(stack_scene):
     assert upper.matrix_world.translation.z < 0.15
     assert bpy.ops.mwb.bake_world() == {"FINISHED"}
     # The upper box is keyed; the lower one is not, it is keyed hidden from the first frame on.
-    upper_paths = {f.data_path for f in upper.animation_data.action.fcurves}
+    upper_paths = {f.data_path for f in compat.object_fcurves(upper)}
     assert upper_paths == {"location", "rotation_quaternion"} and upper.rigid_body.kinematic
-    lower_paths = {f.data_path for f in lower.animation_data.action.fcurves}
+    lower_paths = {f.data_path for f in compat.object_fcurves(lower)}
     assert lower_paths == {"hide_viewport", "hide_render"} and lower.rigid_body.kinematic
     assert lower.display_type == "TEXTURED"
     scene.frame_set(0)
@@ -354,7 +353,7 @@ def test_bake_and_preview_of_a_world_without_the_lower_box(stack_scene):
     # Baking a world that has the lower box keys it again and drops the hide keys.
     bpy.ops.mwb.select_world(world=parent)
     assert bpy.ops.mwb.bake_world() == {"FINISHED"}
-    assert {f.data_path for f in lower.animation_data.action.fcurves} == {"location", "rotation_quaternion"}
+    assert {f.data_path for f in compat.object_fcurves(lower)} == {"location", "rotation_quaternion"}
     scene.frame_set(20)
     assert not lower.hide_viewport and not lower.hide_render
     assert lower.matrix_world.translation.z < 0.15

@@ -250,3 +250,29 @@ def test_no_rigid_body_world_is_reported():
     result, invalid = export.export_and_validate(bpy.context)
     assert result.scene is None
     assert "rigid body world" in result.problems[0]
+
+
+def test_animated_set_by_a_driver_or_the_nla_is_named_not_misread():
+    # The add-on reads "Animated" from the object's own keys; a driver or an NLA strip that sets it
+    # is named with the object, so the user knows why the engine does not follow it.
+    ensure_world()
+    add_rigid_body(mesh_object("Ground", location=(0, 0, -1), scale=(5, 5, 1)), "PASSIVE")
+    driven = add_rigid_body(mesh_object("Driven", location=(0, 0, 1)))
+    driver = driven.driver_add("rigid_body.kinematic").driver
+    driver.expression = "frame < 10"
+    layered = add_rigid_body(mesh_object("Layered", location=(3, 0, 1)))
+    layered.rigid_body.kinematic = True
+    layered.keyframe_insert("rigid_body.kinematic", frame=1)
+    # Push Down: the keys move from the object's action into an NLA strip.
+    action = layered.animation_data.action
+    layered.animation_data.nla_tracks.new().strips.new("Throw", 1, action)
+    layered.animation_data.action = None
+    keyed = add_rigid_body(mesh_object("Keyed", location=(6, 0, 1)))
+    keyed.keyframe_insert("rigid_body.kinematic", frame=1)
+
+    result, invalid = export.export_and_validate(bpy.context)
+    assert invalid == []
+    text = "\n".join(result.problems)
+    assert "Driven: kinematic: \"Animated\" set by a driver is not read" in text, text
+    assert "Layered: kinematic: \"Animated\" set by the NLA is not read" in text, text
+    assert "Keyed:" not in text, "an object's own keys are read without a warning"

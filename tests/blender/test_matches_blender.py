@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from conftest import add_constraint, add_rigid_body, ensure_world, mesh_object
+from many_worlds import compat
 
 
 def simulate_in_blender(ob, frame_end):
@@ -103,7 +104,7 @@ def test_a_ball_thrown_by_keyed_animated_flies_on_as_in_blender():
         ball.keyframe_insert("location", frame=frame)
         ball.rigid_body.kinematic = animated
         ball.keyframe_insert("rigid_body.kinematic", frame=frame)
-    for curve in ball.animation_data.action.fcurves:
+    for curve in compat.object_fcurves(ball):
         for key in curve.keyframe_points:
             key.interpolation = "LINEAR"
     from many_worlds.export import export_scene

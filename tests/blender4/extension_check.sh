@@ -2,8 +2,9 @@
 # The add-on as a Blender 4.2+ extension: build the linux-x64 zip, `extension validate` it, install
 # it into a throwaway user folder with `extension install-file` (enabling it, as a user would),
 # then check in a fresh Blender that it is enabled, registered, imports its native module from its
-# wheel and runs the engine, and that `blender -c many_worlds` reaches the add-on's command line.
-# Needs a Blender >= 4.2 on PATH (run.sh runs this inside the Debian 13 chroot).
+# wheel and runs the engine, that `blender -c many_worlds` reaches the add-on's command line, and
+# that it samples a bundled example and bakes a world that plays from its keys.
+# Needs a Blender >= 4.2 on PATH (run.sh runs this inside the Debian 13 and sid chroots).
 #   tests/blender4/extension_check.sh [OUT_DIR]      (the zip is left in OUT_DIR)
 set -eu
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
@@ -37,4 +38,19 @@ grep -qi "worlds" "$WORK/info.txt" || {
     exit 1
 }
 echo "extension: 'blender -c many_worlds info' works"
+
+# The main loop with the installed extension alone: sample a bundled example, bake a world, and
+# the baked file plays it from its keys.
+cp "$ROOT/blend_examples/quickstart/quickstart.blend" "$WORK/quickstart.blend"
+(
+    cd "$WORK"
+    blender -b -c many_worlds sample quickstart.blend --worlds 0:8 --out s.mwb > sample.log 2>&1 &&
+        blender -b -c many_worlds bake s.mwb --blend quickstart.blend --world 3 --out baked.blend > bake.log 2>&1 &&
+        blender -b baked.blend --python-exit-code 1 --python "$ROOT/tests/release/check_baked.py" > check.log 2>&1
+) || {
+    tail -n 20 "$WORK"/sample.log "$WORK"/bake.log "$WORK"/check.log 2>/dev/null
+    echo "extension: sampling and baking with the installed extension failed"
+    exit 1
+}
+grep "^release: baked" "$WORK/check.log"
 echo "extension: OK"

@@ -13,6 +13,8 @@ import random
 import addon_utils
 import bpy
 
+from many_worlds import compat
+
 FPS = 24
 
 
@@ -73,7 +75,7 @@ def key_throw(ob, velocity, release_frame, start_frame=1):
         rbo.kinematic = animated
         ob.keyframe_insert("rigid_body.kinematic", frame=frame)
     # Graph Editor > Key > Interpolation Mode > Linear, so the ball leaves at its keyed speed.
-    for curve in ob.animation_data.action.fcurves:
+    for curve in compat.object_fcurves(ob):
         for key in curve.keyframe_points:
             key.interpolation = "LINEAR"
     ob.location = start

@@ -9,6 +9,7 @@
 #      `blender -c extension install-file`, then `blender -c many_worlds sample FILE.blend`,
 #      `info` and `bake` (Debian's Blender itself depends on libgomp1, so that one stays); the
 #      installed extension's Slurm plan runs its tasks and merge with the release engine;
+#      the same install, sample, info and bake in Debian sid's Blender 5.2 (Python 3.14);
 #   4. the add-on zip in Debian 12's Blender 3.4 with a clean user folder: Install, enable, sample.
 # Needs root (debootstrap, chroot, mount); otherwise one "skipped: <reason>" line and exit
 # $MWB_SKIP_STATUS (0 by default; CTest sets 77, its skip code).
@@ -16,6 +17,7 @@ set -eu
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 BULLSEYE=${MWB_BULLSEYE_ROOT:-/var/cache/mwb/bullseye}
 TRIXIE=${MWB_TRIXIE_ROOT:-/var/cache/mwb/trixie}
+SID=${MWB_SID_ROOT:-/var/cache/mwb/sid}
 HOST_ENGINE=$ROOT/addon/many_worlds/bin/mwb-engine
 DIST=$ROOT/build-release/dist
 ZIPS=$ROOT/build-release/zips
@@ -61,7 +63,7 @@ for wheel in "$WORK"/shipped/ext/wheels/*.whl; do
     python3 -m zipfile -e "$wheel" "$WORK/shipped/$(basename "$wheel" .whl)"
 done
 shipped=$(find "$WORK/shipped" -type f \( -name mwb-engine -o -name '*.so' -o -name '*.so.*' \) | sort)
-[ "$(echo "$shipped" | wc -l)" -eq 9 ] || { echo "$shipped"; fail "the zips should hold 9 binaries: 2 engines, 4 modules and 3 copies of libgomp"; }
+[ "$(echo "$shipped" | wc -l)" -eq 11 ] || { echo "$shipped"; fail "the zips should hold 11 binaries: 2 engines, 6 modules (Python 3.11, 3.13, 3.14 in each) and 3 copies of libgomp"; }
 python3 "$ROOT/tests/release/check_binaries.py" $shipped > "$WORK/shipped.txt" || {
     cat "$WORK/shipped.txt"
     fail "a binary in the zips needs more than glibc 2.31"
@@ -137,6 +139,34 @@ echo "release: the installed extension's Slurm plan sampled 2 chunks and merged 
 unmount_checkout "$TRIXIE" "$ROOT"
 mounted=""
 flock -u 8
+
+echo "== release: 3b. the extension in Debian sid's Blender 5.2 (Python 3.14) without ODE"
+exec 7>"$SID.lock"
+flock 7
+ensure_chroot "$SID" sid "blender python3-numpy python3-cattr python3-requests"
+in_chroot "$SID" dpkg --purge --force-depends libode-dev libode8t64 libccd-dev libccd2 > /dev/null 2>&1 || true
+mounted=$SID
+mount_checkout "$SID" "$ROOT"
+mkdir -p "$WORK/sid"
+cp "$ROOT/blend_examples/quickstart/quickstart.blend" "$WORK/sid/quickstart.blend"
+in_chroot "$SID" env BLENDER_USER_RESOURCES="$WORK/sid/user" TMPDIR="$WORK/sid" sh -c "
+    set -e
+    cd '$WORK/sid'
+    blender -b -c extension install-file -r user_default -e '$ext_zip' > install.log 2>&1
+    blender -b -c many_worlds sample quickstart.blend --worlds 0:8 --out L.mwb > sample.log 2>&1
+    blender -b -c many_worlds info L.mwb > info.txt 2>&1
+    blender -b -c many_worlds bake L.mwb --blend quickstart.blend --world 3 --out baked.blend > bake.log 2>&1
+    blender -b baked.blend --python-exit-code 1 --python '$ROOT/tests/release/check_baked.py' > check.log 2>&1
+" || {
+    tail -n 20 "$WORK"/sid/*.log "$WORK/sid/info.txt" 2>/dev/null
+    fail "install, sample, info or bake in Debian sid's Blender 5.2"
+}
+grep -q "L.mwb: 8 worlds" "$WORK/sid/info.txt" || { cat "$WORK/sid/info.txt"; fail "info on 5.2 does not report the 8 sampled worlds"; }
+grep "^release:" "$WORK/sid/check.log"
+echo "release: the extension zip installs, samples and bakes in Blender $(in_chroot "$SID" blender --version 2>/dev/null | head -n 1 | cut -d ' ' -f 2-)"
+unmount_checkout "$SID" "$ROOT"
+mounted=""
+flock -u 7
 
 echo "== release: 4. the add-on zip in Blender 3.4"
 mkdir -p "$WORK/b34/config" "$WORK/b34/scripts"
