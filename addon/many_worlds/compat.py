@@ -20,6 +20,12 @@ def builtin_shader(name):
         return gpu.shader.from_builtin(_SHADER_NAMES[name])
 
 
+# A path property that takes "//" (relative to the .blend) must say so from 5.0 on, or setting one
+# warns; 3.4 does not know the option.
+BLEND_RELATIVE_PATH = ({"PATH_SUPPORTS_BLEND_RELATIVE"}
+                       if "is_path_supports_blend_relative" in bpy.types.Property.bl_rna.properties else set())
+
+
 def temp_override(context, **kwargs):
     """Context override for operators (Blender >= 3.2 has temp_override; the dict form is gone in 4)."""
     return context.temp_override(**kwargs)

@@ -6,6 +6,8 @@ import bpy
 from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty, FloatVectorProperty,
                        IntProperty, IntVectorProperty, PointerProperty, StringProperty)
 
+from . import compat
+
 
 def _vector(name, subtype, description, unit="NONE"):
     return FloatVectorProperty(name=name, size=3, subtype=subtype, unit=unit, description=description)
@@ -108,7 +110,8 @@ class MWB_SavedTransform(bpy.types.PropertyGroup):
 class MWB_LibraryItem(bpy.types.PropertyGroup):
     """A library sampled from this .blend: a new one starts whenever the scene or the run settings
     change, and the old ones are kept to switch back to."""
-    path: StringProperty(name="Library", subtype="FILE_PATH", description="The library file (relative to the .blend)")
+    path: StringProperty(name="Library", subtype="FILE_PATH", options=compat.BLEND_RELATIVE_PATH,
+                         description="The library file (relative to the .blend)")
     interrupted_first: IntProperty(default=-1, description="First world of a run cancelled before its end; -1: none")
     interrupted_end: IntProperty(default=-1, description="End (exclusive) of that run")
 
@@ -236,7 +239,7 @@ RANK_METRICS = _rank_metric_items()
 class MWB_SceneSettings(bpy.types.PropertyGroup):
     # Sampling
     library_path: StringProperty(
-        name="Library", subtype="FILE_PATH",
+        name="Library", subtype="FILE_PATH", options=compat.BLEND_RELATIVE_PATH,
         description="Library file (.mwb) the worlds are written to; empty: <blend name>.mwb next to the .blend")
     world_count: IntProperty(name="Worlds", default=100, min=1, soft_max=10000,
                              description="Worlds to add per press of Sample")
@@ -326,6 +329,10 @@ def upgrade_saved_variation(ob):
 
     A script that writes ob["mwb_variation"] = {"angular_velocity_max": [1, 1, 1], ...} stores an
     integer array, which the float properties read as zero: the range the file holds would be lost.
+    The floats are written through the property too: from Blender 5.0 on, ob["..."] holds only the
+    user's custom properties, and a file from an older Blender is opened with a copy of them in the
+    add-on's own storage, integers and all. The raw value becomes floats as well, so an edit made
+    in the panel afterwards is never overwritten by the file's old range.
     """
     raw = ob.get("mwb_variation")
     if raw is None or not hasattr(raw, "keys"):
@@ -334,7 +341,9 @@ def upgrade_saved_variation(ob):
     for name in RANGE_NAMES:
         value = raw.get(name)
         if getattr(value, "typecode", None) == "i":
-            raw[name] = [float(x) for x in value]
+            floats = [float(x) for x in value]
+            raw[name] = floats
+            setattr(ob.mwb_variation, name, floats)
             changed = True
     return changed
 

@@ -84,6 +84,8 @@ apt_private() {
 
 mount_checkout() {
     mkdir -p "$1$2"
+    # A minbase chroot has no mount table; Blender 5 warns at every start without one.
+    [ -e "$1/etc/mtab" ] || [ -L "$1/etc/mtab" ] || ln -s ../proc/self/mounts "$1/etc/mtab"
     mountpoint -q "$1/proc" || mount -t proc proc "$1/proc"
     mountpoint -q "$1$2" || mount --bind "$2" "$1$2"
 }

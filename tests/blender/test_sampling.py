@@ -3,6 +3,7 @@ open library and the world list, cancel keeps what finished, and a second press 
 import fcntl
 import json
 import os
+import re
 import subprocess
 
 import bpy
@@ -171,6 +172,13 @@ def run_cli(blend, *args):
     return result.stdout
 
 
+def json_output(text):
+    """The JSON document a command printed after Blender's own banner and log lines."""
+    start = re.search(r"^\{", text, re.M)
+    assert start is not None, text[-1500:]
+    return json.loads(text[start.start():])
+
+
 # One thread: worlds are stored in the order they finish, so only then is the file order fixed too.
 NON_DEFAULT_SETTINGS = dict(seed=7, alpha=0.3, stop_at_rest=False, duration_s=1.25, position_error_mm=2.0,
                             rotation_error_deg=1.5, threads=1)
@@ -192,7 +200,7 @@ def test_sample_button_command_line_and_farm_shards_make_one_library(tmp_path):
     with open(button, "rb") as a, open(from_cli, "rb") as b:
         assert a.read() == b.read(), "the command line must sample exactly what the Sample button does"
 
-    info = json.loads(run_cli(blend, "info", button, "--json").split("\n", 2)[-1])
+    info = json_output(run_cli(blend, "info", button, "--json"))
     run = info["run"]
     assert run["base_seed"] == 7 and run["alpha_linear"] == pytest.approx(0.3) and run["stop_at_rest"] is False
     assert run["duration_s"] == pytest.approx(1.25) and run["position_error_max_m"] == pytest.approx(0.002)
