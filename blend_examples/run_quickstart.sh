@@ -37,10 +37,15 @@ cli info "$LIB"
 cat "$OUT/info.txt"
 echo "== query: the marble ends in the left bin"
 cli query "$LIB" $LEFT_BIN
-head -n 1 "$OUT/query.txt"
+grep -m 1 " worlds match$" "$OUT/query.txt"
 echo "== rank: those worlds by how soon the marble rests"
 cli rank "$LIB" --metric time_to_rest_s --objects Marble $LEFT_BIN --limit 6
-cp "$OUT/rank.txt" "$OUT/ranking.txt"
+# "WORLD VALUE" lines only, whatever else Blender printed.
+grep -E '^[0-9]+ [-+.0-9e]+$' "$OUT/rank.txt" > "$OUT/ranking.txt" || {
+    cat "$OUT/rank.txt"
+    echo "quickstart: no world ends in the left bin" >&2
+    exit 1
+}
 cat "$OUT/ranking.txt"
 BEST=$(head -n 1 "$OUT/ranking.txt" | cut -d ' ' -f 1)
 TOP=$(cut -d ' ' -f 1 "$OUT/ranking.txt" | paste -s -d ,)

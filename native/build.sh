@@ -13,6 +13,7 @@ BUILD=${MWB_BUILD_DIR:-$ROOT/build}
 PACKAGES="cmake g++ make patch pkg-config pybind11-dev nlohmann-json3-dev zlib1g-dev python3-dev
 python3-numpy blender $*"
 
+started=$(date +%s)
 SUDO=""
 [ "$(id -u)" -eq 0 ] || SUDO=sudo
 missing=""
@@ -26,6 +27,8 @@ if [ -n "$missing" ]; then
     DEBIAN_FRONTEND=noninteractive $SUDO apt-get -o Acquire::Check-Valid-Until=false install -y -qq \
         --no-install-recommends $missing
 fi
+
+packages_done=$(date +%s)
 
 # The module must be built for the minor version of the Python that Blender itself runs (Debian's
 # Blender runs the system's: 3.11 in Debian 12, 3.13 in 13, 3.14 in sid).
@@ -55,3 +58,4 @@ fi
 cmake -S "$ROOT" -B "$BUILD" -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE="$PYTHON" $tests \
     ${MWB_CMAKE_ARGS:-} >/dev/null
 cmake --build "$BUILD" -j"$(nproc)"
+echo "setup: packages $((packages_done - started)) s, build $(($(date +%s) - packages_done)) s (Python $version)"

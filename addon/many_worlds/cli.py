@@ -37,7 +37,8 @@ if __name__ == "__main__":
 import numpy as np  # noqa: E402
 
 from . import _native  # noqa: E402
-from .core import contact_sheet, engine, goal, palette, paths  # noqa: E402
+from .core import contact_sheet, engine, export_warnings, goal, palette, paths  # noqa: E402
+from .core.progress_printer import ProgressPrinter  # noqa: E402
 from .core.library_view import LibraryView  # noqa: E402
 from .core.library_query import BOXES_MET, BoxSpec, LibraryQuery, metric_name  # noqa: E402
 
@@ -149,8 +150,12 @@ def command_sample(args):
                                           seed=args.seed, duration_s=args.duration)
     except runs.RunSetupError as error:
         raise CliError(str(error)[0].lower() + str(error)[1:])
-    for line in warnings:
+    constraints = {ob.name for ob in bpy.context.scene.objects if ob.rigid_body_constraint is not None}
+    shown = warnings if args.all_warnings else export_warnings.grouped_warning_lines(warnings, constraints=constraints)
+    for line in shown:
         print(f"many_worlds: warning: {line}", file=sys.stderr)
+    if len(shown) < len(warnings):
+        print(f"many_worlds: {len(warnings)} warnings in all (--all-warnings lists each)", file=sys.stderr)
 
     def progress_line(line):
         progress = engine.parse_progress(line)
@@ -167,19 +172,23 @@ def follow_engine(argv, progress_line):
     process = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     previous = signal.signal(signal.SIGINT, lambda *_: process.send_signal(signal.SIGINT))
     errors = []
+    # One line rewritten in place on a terminal; in a log, one every few seconds and the last.
+    progress = ProgressPrinter(sys.stderr)
     try:
         for line in process.stderr:
             words = progress_line(line)
             if words:
-                print(f"many_worlds: {words}", file=sys.stderr, flush=True)
+                progress.update(f"many_worlds: {words}")
             elif line.startswith("mwb-engine: "):
                 # Said once, as this command's error, if the run fails.
                 errors.append(line.strip()[len("mwb-engine: "):])
             elif line.strip():
+                progress.interrupt()
                 print(line.rstrip(), file=sys.stderr)
         summary = process.stdout.read()
         process.wait()
     finally:
+        progress.finish()
         # Blender installs its own handler from C, which Python reports as None.
         signal.signal(signal.SIGINT, previous if previous is not None else signal.SIG_DFL)
     if process.returncode not in (0, 130):
@@ -475,6 +484,8 @@ def build_parser():
     p.add_argument("--threads", type=int, help="engine threads (default: the scene's Threads setting; 0: all cores)")
     p.add_argument("--duration", type=float, help="seconds per world (default: the frame range)")
     p.add_argument("--seed", type=int, help="base seed (default: the scene's)")
+    p.add_argument("--all-warnings", action="store_true",
+                   help="every export warning on its own line (default: one line per setting and reason)")
     p = commands.add_parser("merge", help="merge libraries of one run")
     p.add_argument("--overwrite", action="store_true", help="replace OUTPUT if it exists")
     p.add_argument("output")

@@ -348,3 +348,26 @@ def test_an_order_cycle_is_refused_in_one_line(library, tmp_path):
     assert result.returncode == 2, result.stderr[-800:]
     errors = [line for line in result.stderr.splitlines() if line.startswith("many_worlds: error:")]
     assert len(errors) == 1 and "Traceback" not in result.stderr, result.stderr[-800:]
+
+
+def test_sample_of_a_fractured_wall_names_every_setting_in_a_few_warning_lines(tmp_path):
+    # A Cell Fracture wall joined with Connect: every piece and every constraint is warned about.
+    saved = subprocess.run(["blender", "-b", "--factory-startup", "--python-exit-code", "1", "--python",
+                            os.path.join(ROOT, "tests", "fidelity", "save_scenes.py"), "--", str(tmp_path),
+                            "fracture_wall"], capture_output=True, text=True)
+    assert saved.returncode == 0, saved.stdout[-1500:] + saved.stderr[-1500:]
+    blend = str(tmp_path / "fracture_wall.blend")
+
+    def warnings(*extra):
+        result = cli("sample", "--worlds", "0:2", "--out", str(tmp_path / f"w{len(extra)}.mwb"), *extra, blend=blend)
+        return [line[len("many_worlds: warning: "):] for line in result.stderr.splitlines()
+                if line.startswith("many_worlds: warning: ")]
+
+    every = warnings("--all-warnings")
+    settings = {line.split(": ")[1] for line in every}
+    assert len(every) > 20, every
+    grouped = warnings()
+    assert len(grouped) <= 5, grouped
+    for setting in settings:
+        assert any(line.startswith(setting + " on ") or f": {setting}: " in line for line in grouped), (setting, grouped)
+    assert any(" constraints (" in line for line in grouped), grouped

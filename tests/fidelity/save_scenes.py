@@ -2,7 +2,7 @@
 lacks a tool the scenes are built with (Cell Fracture is bundled up to 4.1) to open, as an
 animator opens an older file: compare.py reads them from $MWB_FIDELITY_SCENES.
 
-    blender -b --factory-startup --python-exit-code 1 --python tests/fidelity/save_scenes.py -- DIR
+    blender -b --factory-startup --python-exit-code 1 --python tests/fidelity/save_scenes.py -- DIR [SCENE ...]
 """
 import os
 import sys
@@ -14,10 +14,13 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(HERE)), "addon")
 sys.path.insert(0, HERE)
 import scenes  # noqa: E402
 
-out = os.path.abspath(sys.argv[sys.argv.index("--") + 1])
+args = sys.argv[sys.argv.index("--") + 1:]
+out = os.path.abspath(args[0])
+names = args[1:] or list(scenes.SCENES)
 os.makedirs(out, exist_ok=True)
-for name, (build, _) in scenes.SCENES.items():
+for name in names:
+    build, _ = scenes.SCENES[name]
     bpy.ops.wm.read_factory_settings(use_empty=True)
     build()
     bpy.ops.wm.save_as_mainfile(filepath=os.path.join(out, f"{name}.blend"))
-print(f"fidelity: saved {len(scenes.SCENES)} scenes in {out}")
+print(f"fidelity: saved {len(names)} scenes in {out}")

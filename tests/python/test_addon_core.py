@@ -116,3 +116,60 @@ def test_the_viewport_label_names_the_world_its_rest_time_and_the_boxes_it_meets
     assert library_query.world_label_text(216, 5.4701) == "World 216 \u00b7 5.47 s"
     assert library_query.world_label_text(216, 5.4701, 3, 3) == "World 216 \u00b7 5.47 s \u00b7 3 of 3 boxes"
     assert library_query.world_label_text(7, 0.5, 0, 1) == "World 7 \u00b7 0.50 s \u00b7 0 of 1 box"
+
+
+def test_a_hundred_constraints_with_one_approximation_fold_into_one_line_that_counts_them():
+    # A Cell Fracture wall joined with Connect: one line per constraint and one per piece.
+    constraints = [f"Constraint.{k:03d}" if k else "Constraint" for k in range(118)]
+    pieces = [f"Wall_cell.{k:03d}" if k else "Wall_cell" for k in range(36)]
+    lines = [f"{c}: breaking_threshold: breaking is approximated" for c in constraints]
+    lines += [f"{p}: collision_margin: the margin is left out" for p in pieces]
+    grouped = export_warnings.grouped_warning_lines(lines, constraints=set(constraints))
+    assert grouped == [
+        "breaking_threshold on 118 constraints (Constraint, Constraint.001, Constraint.002, … and 115 more): "
+        "breaking is approximated",
+        "collision_margin on 36 objects (Wall_cell, Wall_cell.001, Wall_cell.002, … and 33 more): "
+        "the margin is left out"]
+
+
+class _Log:
+    """A log file's stream (not a terminal) that keeps what was written."""
+    def __init__(self, tty=False):
+        self.text, self.tty = "", tty
+
+    def isatty(self):
+        return self.tty
+
+    def write(self, text):
+        self.text += text
+
+    def flush(self):
+        pass
+
+
+def test_a_long_run_writes_one_progress_line_per_interval_to_a_log_and_its_last_state():
+    from many_worlds.core.progress_printer import ProgressPrinter
+    now = [0.0]
+    log = _Log()
+    printer = ProgressPrinter(log, interval_s=5.0, clock=lambda: now[0])
+    # 5,000 worlds over 100 s of run: one progress message every 20 ms.
+    for k in range(1, 5001):
+        now[0] = k * 0.02
+        printer.update(f"sampled {k}/5000 worlds")
+    printer.finish()
+    lines = log.text.splitlines()
+    assert len(lines) <= 100 / 5 + 2, len(lines)
+    assert lines[0] == "sampled 1/5000 worlds" and lines[-1] == "sampled 5000/5000 worlds"
+
+
+def test_on_a_terminal_progress_rewrites_one_line_and_ends_it_before_other_output():
+    from many_worlds.core.progress_printer import ProgressPrinter
+    tty = _Log(tty=True)
+    printer = ProgressPrinter(tty)
+    for k in (1, 2, 10):
+        printer.update(f"sampled {k}/10 worlds")
+    printer.interrupt()
+    tty.write("a warning\n")
+    printer.finish()
+    assert tty.text.count("\n") == 2 and tty.text.count("\r") == 3
+    assert tty.text.split("\n")[0].split("\r")[-1].rstrip() == "sampled 10/10 worlds"

@@ -9,7 +9,12 @@
 #   4. the in-Blender test suite (tests/blender);
 #   5. the viewport tests under Xvfb (tests/viewport/run.sh);
 #   6. the extension: build the zip, validate, install into a throwaway user folder, enable,
-#      sample and bake with it.
+#      sample and bake with it;
+#   7. with MWB_CHROOT_FIDELITY=1, the fidelity corpus against this Blender's own Bullet: the
+#      scenes are built by the host's Blender 3.4 (some need its bundled Cell Fracture) and opened
+#      here, as an animator opens an older file.
+# With MWB_CHROOT_ONLY=1 it stops after step 1 (CTest prepares the chroots that way while other
+# tests run: debootstrap and apt wait on the network more than on the cores).
 # Needs root (debootstrap, chroot, mount). Otherwise it prints one "skipped: <reason>" line and
 # exits with $MWB_SKIP_STATUS (0 by default; CTest sets 77, its skip code).
 #   tests/shared/blender_in_chroot.sh NAME SUITE [MORE PACKAGES...]
@@ -63,6 +68,7 @@ step "the Debian $SUITE chroot in $CHROOT"
 # shellcheck disable=SC2086 # a list of package names
 ensure_chroot "$CHROOT" "$SUITE" "$(echo $PACKAGES)" || skip "the Debian $SUITE chroot could not be prepared"
 step_done chroot
+[ -z "${MWB_CHROOT_ONLY:-}" ] || exit 0
 
 # --- mounts: /proc (Blender prints nothing useful without it) and this checkout at its own path,
 # so paths are the same inside and out. Unmounted on any exit.
@@ -74,12 +80,13 @@ mount_checkout "$CHROOT" "$ROOT"
 # MWB_ADDON_ENGINE_DIR is empty so this build never replaces the host's engine in the add-on. ODE
 # is built from the host's copy of the same Debian 12 sources, so the module makes the host's worlds.
 step "build with $(in_suite cmake --version | head -n 1) and $(in_suite g++ --version | head -n 1)"
+mkdir -p "$BUILD"
 flock /tmp/mwb-build.lock chroot "$CHROOT" /usr/bin/env -i PATH=/usr/bin:/bin HOME=/root LANG=C.UTF-8 \
     MWB_BUILD_DIR="$BUILD" MWB_BUILD_TESTS=OFF \
     MWB_CMAKE_ARGS="-DMWB_ADDON_ENGINE_DIR= -DMWB_ODE_SOURCE_DIR=$ROOT/build/ode-source" \
-    sh "$ROOT/native/build.sh" > "$BUILD.log" 2>&1 || {
-    tail -n 30 "$BUILD.log"
-    echo "== $NAME: FAILED the build (log: $BUILD.log)"
+    sh "$ROOT/native/build.sh" > "$BUILD/build.log" 2>&1 || {
+    tail -n 30 "$BUILD/build.log"
+    echo "== $NAME: FAILED the build (log: $BUILD/build.log)"
     exit 1
 }
 step_done build
@@ -126,5 +133,26 @@ in_suite sh "$ROOT/tests/blender4/extension_check.sh" "$BUILD/extension" || {
     status=1
 }
 step_done extension
+
+# --- 7. fidelity ---------------------------------------------------------------------------------
+if [ -n "${MWB_CHROOT_FIDELITY:-}" ]; then
+    step "the fidelity corpus against the Bullet of $(in_suite blender --version 2>/dev/null | head -n 1)"
+    scenes=$BUILD/fidelity-scenes
+    # The host's Blender (3.4) builds and saves them.
+    blender -b --factory-startup --python-exit-code 1 --python "$ROOT/tests/fidelity/save_scenes.py" -- "$scenes" \
+        > "$BUILD/fidelity-scenes.log" 2>&1 || {
+        tail -n 20 "$BUILD/fidelity-scenes.log"
+        echo "== $NAME: FAILED saving the fidelity scenes with the host's Blender"
+        status=1
+    }
+    rm -rf "$BUILD/fidelity"
+    in_suite env MWB_FIDELITY_SCENES="$scenes" MWB_FIDELITY_OUT="$BUILD/fidelity" sh -c "cd '$ROOT' && \
+        blender -b --factory-startup --python-exit-code 1 --python tests/blender/run.py -- tests/fidelity" || {
+        echo "== $NAME: FAILED tests/fidelity"
+        status=1
+    }
+    python3 "$ROOT/tests/fidelity/report.py" "$BUILD/fidelity" || true
+    step_done fidelity
+fi
 
 exit $status

@@ -1,14 +1,26 @@
-"""Export warnings as the panel shows them, without bpy.
+"""Export warnings as people read them, without bpy.
 
-The exporter writes one line per object and setting ("Joint: spring_damping_ang: ..."), which the
-command line prints as they are. A ragdoll has a dozen joints with the same approximation, so the
-panel folds lines that differ only in the object into one line that still names every object.
+The exporter writes one line per object and setting ("Joint: spring_damping_ang: ..."). A Cell
+Fracture wall joined with Connect has a hundred constraints with the same approximation, so lines
+that differ only in the object fold into one line per setting and reason, which counts the objects
+and names the first few: "breaking_threshold on 118 constraints (Constraint, Constraint.001,
+Constraint.002, … and 115 more): breaking is approximated ...". The full list stays with the caller
+(the command line's --all-warnings, the panel's report).
 """
 
+NAMED = 3  # objects named in a folded line before "… and N more"
 
-def grouped_warning_lines(lines, fold_at=3):
+
+def _names(names):
+    if len(names) <= NAMED + 1:
+        return ", ".join(names)
+    return f"{', '.join(names[:NAMED])}, … and {len(names) - NAMED} more"
+
+
+def grouped_warning_lines(lines, fold_at=3, constraints=frozenset()):
     """Lines "object: setting: reason"; those sharing setting and reason with at least `fold_at - 1`
-    others become "setting on N objects (A, B, ...): reason", in the order they first appear."""
+    others become "setting on N objects (A, B, C, … and K more): reason", in the order they first
+    appear ("constraints" when every one is in `constraints`)."""
     groups, order = {}, []
     for line in lines:
         parts = line.split(": ", 2)
@@ -24,5 +36,6 @@ def grouped_warning_lines(lines, fold_at=3):
         if setting is None or len(names) < fold_at:
             out.extend(f"{n}: {setting}: {reason}" if setting is not None else n for n in names)
         else:
-            out.append(f"{setting} on {len(names)} objects ({', '.join(names)}): {reason}")
+            noun = "constraints" if all(n in constraints for n in names) else "objects"
+            out.append(f"{setting} on {len(names)} {noun} ({_names(names)}): {reason}")
     return out

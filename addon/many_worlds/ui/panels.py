@@ -76,7 +76,9 @@ class MWB_PT_sampling(SidebarPanel, bpy.types.Panel):
             # What the engine does not reproduce as Blender would, named by object and setting.
             box = layout.box()
             wrapped_labels(box, context, f"{len(SESSION.export_warnings)} settings differ from Blender", "ERROR")
-            for line in grouped_warning_lines(SESSION.export_warnings):
+            # Folded by setting; Sample and Check Scene report every line (Info editor).
+            constraints = {ob.name for ob in context.scene.objects if ob.rigid_body_constraint is not None}
+            for line in grouped_warning_lines(SESSION.export_warnings, constraints=constraints):
                 wrapped_labels(box, context, line, "DOT")
 
 
