@@ -6,7 +6,7 @@
 Blender's extension docs prescribe Python wheels for compiled Python modules: Blender installs the
 wheels that match its own Python and platform into its extensions' site-packages when the
 extension is enabled. So each built `_native.cpython-3XY-x86_64-linux-gnu.so` (3.11 for the
-official 4.2-4.5 builds, 3.13 for Debian's 4.3) goes into its own wheel of a package
+official 4.2-5.0 builds, 3.13 for 5.1+ and Debian's 4.3, 3.14 for Debian's 5.2) goes into its own wheel of a package
 `many_worlds_native`, and the zip gets a two-line `_native.py` in place of the .so files that
 hands `from . import _native` the wheel's module. The engine executable (bin/mwb-engine) is not a
 Python module and stays where the add-on looks for it.
