@@ -14,12 +14,16 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(HERE)), "addon")
 sys.path.insert(0, HERE)
 import scenes  # noqa: E402
 
+# Scenes the other fidelity tests build beside the corpus's.
+EXTRA = {"fracture_wall_on_mesh": lambda: scenes.fracture_wall(ground_shape="MESH")}
+
 args = sys.argv[sys.argv.index("--") + 1:]
 out = os.path.abspath(args[0])
-names = args[1:] or list(scenes.SCENES)
+builders = {**{name: build for name, (build, _) in scenes.SCENES.items()}, **EXTRA}
+names = args[1:] or list(builders)
 os.makedirs(out, exist_ok=True)
 for name in names:
-    build, _ = scenes.SCENES[name]
+    build = builders[name]
     bpy.ops.wm.read_factory_settings(use_empty=True)
     build()
     bpy.ops.wm.save_as_mainfile(filepath=os.path.join(out, f"{name}.blend"))

@@ -18,7 +18,11 @@ def sample_fracture_wall_on_mesh(worlds):
     from many_worlds import _native
     from many_worlds.core import paths
     from many_worlds.export import export_and_validate
-    scenes.fracture_wall(ground_shape="MESH")
+    from compare import SCENES_DIR
+    if SCENES_DIR:  # saved by an older Blender (save_scenes.py), where Cell Fracture is bundled
+        bpy.ops.wm.open_mainfile(filepath=os.path.join(SCENES_DIR, "fracture_wall_on_mesh.blend"), load_ui=False)
+    else:
+        scenes.fracture_wall(ground_shape="MESH")
     result, problems = export_and_validate(bpy.context)
     assert result.scene is not None and not problems, problems
     with tempfile.TemporaryDirectory() as folder:
