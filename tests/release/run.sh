@@ -48,6 +48,21 @@ cleanup() {
 trap cleanup EXIT
 trap 'exit 130' INT TERM
 
+# In CHROOT's Blender, with a throwaway user folder in DIR: install the extension zip as a user
+# does, then sample the quick start with it, describe the library, bake a world and check the
+# baked file (DIR/*.log, DIR/info.txt).
+use_extension() {  # CHROOT DIR
+    cp "$ROOT/blend_examples/quickstart/quickstart.blend" "$2/quickstart.blend"
+    in_chroot "$1" env BLENDER_USER_RESOURCES="$2/user" TMPDIR="$2" sh -c "
+        set -e
+        cd '$2'
+        blender -b -c extension install-file -r user_default -e '$ext_zip' > install.log 2>&1
+        blender -b -c many_worlds sample quickstart.blend --worlds 0:8 --out L.mwb > sample.log 2>&1
+        blender -b -c many_worlds info L.mwb > info.txt 2>&1
+        blender -b -c many_worlds bake L.mwb --blend quickstart.blend --world 3 --out baked.blend > bake.log 2>&1
+        blender -b baked.blend --python-exit-code 1 --python '$ROOT/tests/release/check_baked.py' > check.log 2>&1"
+}
+
 echo "== release: 1. build and check the binaries"
 sh "$ROOT/native/release/build_release.sh"
 python3 "$ROOT/tests/release/check_binaries.py" "$DIST/bin/mwb-engine" "$DIST"/modules/* ||
@@ -63,7 +78,7 @@ for wheel in "$WORK"/shipped/ext/wheels/*.whl; do
     python3 -m zipfile -e "$wheel" "$WORK/shipped/$(basename "$wheel" .whl)"
 done
 shipped=$(find "$WORK/shipped" -type f \( -name mwb-engine -o -name '*.so' -o -name '*.so.*' \) | sort)
-[ "$(echo "$shipped" | wc -l)" -eq 11 ] || { echo "$shipped"; fail "the zips should hold 11 binaries: 2 engines, 6 modules (Python 3.11, 3.13, 3.14 in each) and 3 copies of libgomp"; }
+[ "$(echo "$shipped" | wc -l)" -eq 12 ] || { echo "$shipped"; fail "the zips should hold 12 binaries: 2 engines, 6 modules (Python 3.11, 3.13, 3.14 in each) and 4 copies of libgomp (one per wheel, one in the add-on zip)"; }
 python3 "$ROOT/tests/release/check_binaries.py" $shipped > "$WORK/shipped.txt" || {
     cat "$WORK/shipped.txt"
     fail "a binary in the zips needs more than glibc 2.31"
@@ -95,15 +110,9 @@ in_chroot "$TRIXIE" dpkg --purge --force-depends libode-dev libode8t64 libccd-de
 in_chroot "$TRIXIE" sh -c "ldconfig -p | grep -E 'libode|libccd'" && fail "ODE or libccd is still installed in $TRIXIE"
 mounted=$TRIXIE
 mount_checkout "$TRIXIE" "$ROOT"
-cp "$ROOT/blend_examples/quickstart/quickstart.blend" "$WORK/quickstart.blend"
-in_chroot "$TRIXIE" env BLENDER_USER_RESOURCES="$WORK/user" TMPDIR="$WORK" sh -c "
+use_extension "$TRIXIE" "$WORK" && in_chroot "$TRIXIE" env BLENDER_USER_RESOURCES="$WORK/user" TMPDIR="$WORK" sh -c "
     set -e
     cd '$WORK'
-    blender -b -c extension install-file -r user_default -e '$ext_zip' > install.log 2>&1
-    blender -b -c many_worlds sample quickstart.blend --worlds 0:8 --out L.mwb > sample.log 2>&1
-    blender -b -c many_worlds info L.mwb > info.txt 2>&1
-    blender -b -c many_worlds bake L.mwb --blend quickstart.blend --world 3 --out baked.blend > bake.log 2>&1
-    blender -b baked.blend --python-exit-code 1 --python '$ROOT/tests/release/check_baked.py' > check.log 2>&1
     # The installed extension's Slurm plan, its tasks run as Slurm runs them (one per chunk), then
     # its merge: every task calls the extension's cli.py and so the engine beside it.
     ext=\$(pwd)/user/extensions/user_default
@@ -148,16 +157,7 @@ in_chroot "$SID" dpkg --purge --force-depends libode-dev libode8t64 libccd-dev l
 mounted=$SID
 mount_checkout "$SID" "$ROOT"
 mkdir -p "$WORK/sid"
-cp "$ROOT/blend_examples/quickstart/quickstart.blend" "$WORK/sid/quickstart.blend"
-in_chroot "$SID" env BLENDER_USER_RESOURCES="$WORK/sid/user" TMPDIR="$WORK/sid" sh -c "
-    set -e
-    cd '$WORK/sid'
-    blender -b -c extension install-file -r user_default -e '$ext_zip' > install.log 2>&1
-    blender -b -c many_worlds sample quickstart.blend --worlds 0:8 --out L.mwb > sample.log 2>&1
-    blender -b -c many_worlds info L.mwb > info.txt 2>&1
-    blender -b -c many_worlds bake L.mwb --blend quickstart.blend --world 3 --out baked.blend > bake.log 2>&1
-    blender -b baked.blend --python-exit-code 1 --python '$ROOT/tests/release/check_baked.py' > check.log 2>&1
-" || {
+use_extension "$SID" "$WORK/sid" || {
     tail -n 20 "$WORK"/sid/*.log "$WORK/sid/info.txt" 2>/dev/null
     fail "install, sample, info or bake in Debian sid's Blender 5.2"
 }
