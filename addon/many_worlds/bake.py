@@ -40,12 +40,11 @@ def _write_channel(ob, data_path, index, frames, values, group=GROUP):
     return fcurve
 
 
-def animation_warnings(objects):
-    """One sentence per object whose keys the bake would also write for others: its action (slot)
-    is shared."""
+def animation_warnings(objects, users):
+    """One sentence per object whose keys other objects play too (users: compat.AnimationUsers)."""
     warnings = []
     for ob in objects:
-        others = compat.shares_animation(ob)
+        others = users.others(ob)
         if others:
             names = ", ".join(o.name for o in others)
             warnings.append(f"{ob.name}: its animation is shared with {names}; "
@@ -53,17 +52,19 @@ def animation_warnings(objects):
     return warnings
 
 
-def _own_action(ob, action_suffix):
+def _own_action(ob, action_suffix, users):
     """ob's action, made its own first if other objects play the same keys (they keep theirs)."""
-    if compat.shares_animation(ob):
+    if users.others(ob):
+        users.leave(ob)
         ob.animation_data.action = ob.animation_data.action.copy()
     return compat.ensure_action(ob, f"{ob.name}{action_suffix}")
 
 
-def bake_objects(objects, frames, locations, rotations, action_suffix="MWB"):
+def bake_objects(objects, frames, locations, rotations, action_suffix="MWB", users=None):
     """Key objects[i] at frames with locations[i] (n, 3) and quaternions rotations[i] (n, 4)."""
+    users = compat.AnimationUsers(bpy.data.objects) if users is None else users
     for ob, loc, rot in zip(objects, locations, rotations):
-        _own_action(ob, action_suffix)
+        _own_action(ob, action_suffix, users)
         ob.rotation_mode = "QUATERNION"
         for k in range(3):
             _write_channel(ob, "location", k, frames, loc[:, k])
@@ -81,11 +82,12 @@ def _remove_visibility_keys(ob):
             setattr(ob, path, False)
 
 
-def hide_objects(objects, frame_start, action_suffix="MWB"):
+def hide_objects(objects, frame_start, action_suffix="MWB", users=None):
     """Key the objects shown up to frame_start - 1 and hidden from frame_start on (viewport and render)."""
+    users = compat.AnimationUsers(bpy.data.objects) if users is None else users
     frames = np.array([frame_start - 1, frame_start], dtype=np.float64)
     for ob in objects:
-        _own_action(ob, action_suffix)
+        _own_action(ob, action_suffix, users)
         for path in VISIBILITY_PATHS:
             fcurve = _write_channel(ob, path, 0, frames, [0.0, 1.0], VISIBILITY_GROUP)
             for key in fcurve.keyframe_points:
@@ -134,15 +136,16 @@ def bake_world(context, world):
     absent_simulated = {view.body_names[i] for i in simulated if not present[i]}
     handed = [ob for _, ob in pairs] + [ob for ob in absent if ob.name in absent_simulated]
     remember_setup(context, handed)
-    warnings = animation_warnings([ob for _, ob in pairs] + absent)
+    users = compat.AnimationUsers(bpy.data.objects)
+    warnings = animation_warnings([ob for _, ob in pairs] + absent, users)
     if pairs:
         index = np.array([i for i, _ in pairs])
         loc, rot = arrays.sample_tracks(positions[index], orientations[index], world_frames)
-        bake_objects([ob for _, ob in pairs], frames.astype(np.float64), loc, rot)
+        bake_objects([ob for _, ob in pairs], frames.astype(np.float64), loc, rot, users=users)
     for i, ob in every:
         if present[i]:
             _remove_visibility_keys(ob)
-    hide_objects(absent, view.frame_start)
+    hide_objects(absent, view.frame_start, users=users)
     hand_to_keys(handed)
     return [ob.name for _, ob in pairs], [ob.name for ob in absent], warnings
 

@@ -122,15 +122,34 @@ def remove_fcurve(ob, fcurve):
     _channelbag(action, _slot_of(ob)).fcurves.remove(fcurve)
 
 
-def shares_animation(ob):
-    """The other objects that play ob's keys (the same action, and on 4.4+ the same slot)."""
-    action = _action(ob)
-    if action is None:
-        return []
-    slot = _slot_of(ob) if SLOTTED_ACTIONS else None
-    return [other for other in bpy.data.objects
-            if other is not ob and other.animation_data is not None and other.animation_data.action == action
-            and (not SLOTTED_ACTIONS or other.animation_data.action_slot == slot)]
+class AnimationUsers:
+    """Which objects play the same keys (the same action, and on 4.4+ the same slot), found in one
+    pass over the file's objects, so that asking it of every object of a big scene stays linear."""
+
+    def __init__(self, objects):
+        self._users = {}
+        for ob in objects:
+            key = self._key(ob)
+            if key is not None:
+                self._users.setdefault(key, []).append(ob)
+
+    @staticmethod
+    def _key(ob):
+        action = _action(ob)
+        if action is None:
+            return None
+        slot = _slot_of(ob) if SLOTTED_ACTIONS else None
+        return action.as_pointer(), slot.as_pointer() if slot is not None else 0
+
+    def others(self, ob):
+        """The other objects that play ob's keys."""
+        return [other for other in self._users.get(self._key(ob), []) if other != ob]
+
+    def leave(self, ob):
+        """ob plays keys of its own from now on (its action was copied)."""
+        users = self._users.get(self._key(ob), [])
+        if ob in users:
+            users.remove(ob)
 
 
 def other_animation_of(ob, data_path):

@@ -39,15 +39,8 @@ grep -qi "worlds" "$WORK/info.txt" || {
 }
 echo "extension: 'blender -c many_worlds info' works"
 
-# The main loop with the installed extension alone: sample a bundled example, bake a world, and
-# the baked file plays it from its keys.
-cp "$ROOT/blend_examples/quickstart/quickstart.blend" "$WORK/quickstart.blend"
-(
-    cd "$WORK"
-    blender -b -c many_worlds sample quickstart.blend --worlds 0:8 --out s.mwb > sample.log 2>&1 &&
-        blender -b -c many_worlds bake s.mwb --blend quickstart.blend --world 3 --out baked.blend > bake.log 2>&1 &&
-        blender -b baked.blend --python-exit-code 1 --python "$ROOT/tests/release/check_baked.py" > check.log 2>&1
-) || {
+# The main loop with the installed extension alone.
+sh "$ROOT/tests/shared/extension_main_loop.sh" "$WORK" || {
     tail -n 20 "$WORK"/sample.log "$WORK"/bake.log "$WORK"/check.log 2>/dev/null
     echo "extension: sampling and baking with the installed extension failed"
     exit 1

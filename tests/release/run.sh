@@ -49,18 +49,13 @@ trap cleanup EXIT
 trap 'exit 130' INT TERM
 
 # In CHROOT's Blender, with a throwaway user folder in DIR: install the extension zip as a user
-# does, then sample the quick start with it, describe the library, bake a world and check the
-# baked file (DIR/*.log, DIR/info.txt).
+# does, then run the main loop with it (tests/shared/extension_main_loop.sh: DIR/*.log, DIR/info.txt).
 use_extension() {  # CHROOT DIR
-    cp "$ROOT/blend_examples/quickstart/quickstart.blend" "$2/quickstart.blend"
     in_chroot "$1" env BLENDER_USER_RESOURCES="$2/user" TMPDIR="$2" sh -c "
         set -e
         cd '$2'
         blender -b -c extension install-file -r user_default -e '$ext_zip' > install.log 2>&1
-        blender -b -c many_worlds sample quickstart.blend --worlds 0:8 --out L.mwb > sample.log 2>&1
-        blender -b -c many_worlds info L.mwb > info.txt 2>&1
-        blender -b -c many_worlds bake L.mwb --blend quickstart.blend --world 3 --out baked.blend > bake.log 2>&1
-        blender -b baked.blend --python-exit-code 1 --python '$ROOT/tests/release/check_baked.py' > check.log 2>&1"
+        sh '$ROOT/tests/shared/extension_main_loop.sh' '$2'"
 }
 
 echo "== release: 1. build and check the binaries"
