@@ -65,22 +65,31 @@ def _action(ob):
     return data.action if data is not None else None
 
 
-def _fcurves(action, slot):
+def _fcurve_collection(action, slot):
+    """The collection holding the F-curves that action plays through slot (None: there is none)."""
     if not SLOTTED_ACTIONS:
-        return list(action.fcurves)
+        return action.fcurves
     bag = _channelbag(action, slot) if slot is not None else None
-    return list(bag.fcurves) if bag is not None else []
+    return bag.fcurves if bag is not None else None
+
+
+def _object_fcurve_collection(ob):
+    action = _action(ob)
+    if action is None:
+        return None
+    return _fcurve_collection(action, _slot_of(ob) if SLOTTED_ACTIONS else None)
 
 
 def object_fcurves(ob):
     """The F-curves that animate ob through its action (empty when it has none)."""
-    action = _action(ob)
-    return _fcurves(action, _slot_of(ob) if SLOTTED_ACTIONS else None) if action is not None else []
+    fcurves = _object_fcurve_collection(ob)
+    return list(fcurves) if fcurves is not None else []
 
 
 def find_fcurve(ob, data_path, index=0):
     """ob's F-curve of data_path[index], or None."""
-    return next((f for f in object_fcurves(ob) if f.data_path == data_path and f.array_index == index), None)
+    fcurves = _object_fcurve_collection(ob)
+    return fcurves.find(data_path, index=index) if fcurves is not None else None
 
 
 def ensure_action(ob, name):
@@ -100,26 +109,23 @@ def ensure_action(ob, name):
 
 
 def new_fcurve(ob, data_path, index, group):
-    """A new, empty F-curve of data_path[index] for ob, in group, replacing the one there was.
-    The object's other F-curves stay as they are."""
-    old = find_fcurve(ob, data_path, index)
-    if old is not None:
-        remove_fcurve(ob, old)
+    """A new, empty F-curve of data_path[index] for ob (which has an action: ensure_action), in
+    group, replacing the one there was. The object's other F-curves stay as they are."""
     action = _action(ob)
-    if not SLOTTED_ACTIONS:
-        return action.fcurves.new(data_path, index=index, action_group=group)
-    bag = _channelbag(action, _slot_of(ob), ensure=True)
-    fcurve = bag.fcurves.new(data_path, index=index)
+    bag = _channelbag(action, _slot_of(ob), ensure=True) if SLOTTED_ACTIONS else None
+    fcurves = bag.fcurves if bag is not None else action.fcurves
+    old = fcurves.find(data_path, index=index)
+    if old is not None:
+        fcurves.remove(old)
+    if bag is None:
+        return fcurves.new(data_path, index=index, action_group=group)
+    fcurve = fcurves.new(data_path, index=index)
     fcurve.group = bag.groups.get(group) or bag.groups.new(group)
     return fcurve
 
 
 def remove_fcurve(ob, fcurve):
-    action = _action(ob)
-    if not SLOTTED_ACTIONS:
-        action.fcurves.remove(fcurve)
-        return
-    _channelbag(action, _slot_of(ob)).fcurves.remove(fcurve)
+    _object_fcurve_collection(ob).remove(fcurve)
 
 
 class AnimationUsers:
@@ -165,7 +171,8 @@ def other_animation_of(ob, data_path):
             if track.mute or strip.mute or strip.action is None:
                 continue
             slot = strip.action_slot if SLOTTED_ACTIONS else None
-            if any(f.data_path == data_path for f in _fcurves(strip.action, slot)):
+            fcurves = _fcurve_collection(strip.action, slot)
+            if fcurves is not None and any(f.data_path == data_path for f in fcurves):
                 return "the NLA"
     return None
 
