@@ -147,6 +147,46 @@ class PathIndex:
     def score(self, world: int, boxes: Sequence[QueryBox]) -> dict: ...
     def first_time_inside(self, world: int, bodies: Sequence[int], box: QueryBox) -> float: ...
 
+class RunSettings:
+    """The settings of a sampling run a person chooses; unset ones take the product's defaults."""
+    seed: int
+    duration_s: float        # <= 0: the scene's frame range
+    stop_at_rest: bool
+    alpha: float
+    position_error_m: float
+    rotation_error_deg: float
+    def __init__(self, seed: int = 0, duration_s: Optional[float] = None, stop_at_rest: Optional[bool] = None,
+                 alpha: Optional[float] = None, position_error_m: Optional[float] = None,
+                 rotation_error_deg: Optional[float] = None) -> None: ...
+
+class LibraryHolding:
+    """What a library file says about a run about to go into it."""
+    NEW: "LibraryHolding"
+    SAME: "LibraryHolding"
+    OTHER: "LibraryHolding"
+    name: str
+    value: int
+
+class EngineExit:
+    """mwb-engine's exit status."""
+    OK: "EngineExit"
+    FAILED: "EngineExit"
+    USAGE: "EngineExit"
+    INVALID_SCENE: "EngineExit"
+    BAD_LIBRARY: "EngineExit"
+    CANCELLED: "EngineExit"
+    name: str
+    value: int
+
+class engine_protocol:
+    """mwb-engine's events (a submodule): the names every reader must know."""
+    VERSION: int
+    EVENTS: Tuple[str, ...]
+    ERROR_CODES: Tuple[str, ...]
+    WARNING_CODES: Tuple[str, ...]
+
+def run_hash(scene_json: str, settings: RunSettings) -> str: ...
+def library_holds_run(library: str, scene_json: str, settings: RunSettings) -> LibraryHolding: ...
 def validate_scene_json(text: str) -> List[str]: ...
 def sample(scene: Scene, parameters: SimulationParameters, base_seed: int, first_world: int, world_count: int,
            threads: int = 0, on_world: Optional[Callable[[World], None]] = None) -> List[World]: ...

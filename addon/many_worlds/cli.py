@@ -23,9 +23,9 @@ import argparse
 import json
 import os
 import signal
-import subprocess
 import sys
 import tempfile
+import time
 
 if __name__ == "__main__":
     # Run as a script by Blender: make the package importable from this checkout and resolve the
@@ -146,8 +146,8 @@ def command_sample(args):
     out = os.path.abspath(args.out)
     # The same path as the Sample button: the scene's run settings, --seed and --duration on top.
     try:
-        argv, warnings = runs.sample_argv(bpy.context, out, first, end - first, args.threads,
-                                          seed=args.seed, duration_s=args.duration)
+        request, warnings = runs.sample_request(bpy.context, out, first, end - first, args.threads,
+                                                seed=args.seed, duration_s=args.duration)
     except runs.RunSetupError as error:
         raise CliError(str(error)[0].lower() + str(error)[1:])
     constraints = {ob.name for ob in bpy.context.scene.objects if ob.rigid_body_constraint is not None}
@@ -157,48 +157,63 @@ def command_sample(args):
     if len(shown) < len(warnings):
         print(f"many_worlds: {len(warnings)} warnings in all (--all-warnings lists each)", file=sys.stderr)
 
-    def progress_line(line):
-        progress = engine.parse_progress(line)
-        return f"sampled {progress[0]}/{progress[1]} worlds" if progress else None
+    def progress_words(run):
+        done, total, _ = run.progress()
+        return f"sampled {done}/{total} worlds" if total else None
 
-    return follow_engine(argv, progress_line)
+    return follow_engine(request, progress_words)
 
 
-def follow_engine(argv, progress_line):
-    """Run an engine child to its end: its progress lines as `progress_line(line)` turns them into
-    words (None: not a progress line), its other lines passed on, then its summary. Ctrl-C is
-    passed on to it (it keeps every finished world and exits with 130). Returns the exit status;
-    raises CliError with the engine's own message when it fails."""
-    process = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    previous = signal.signal(signal.SIGINT, lambda *_: process.send_signal(signal.SIGINT))
-    errors = []
+def follow_engine(request, progress_words, json_summary=False, poll_s=0.1):
+    """Run the engine on `request` to its end: its progress as `progress_words(run)` puts it (None:
+    nothing to say yet), the lines it prints besides its events passed on, then its summary (its
+    fields as one JSON object with `json_summary`, else its text).
+    Ctrl-C asks it to stop (it keeps every finished world and exits with EngineExit.CANCELLED).
+    Returns the exit status; raises CliError with the engine's own message when it fails."""
+    try:
+        run = engine.EngineRun(request)
+    except FileNotFoundError as error:
+        raise CliError(str(error))
+    previous = signal.signal(signal.SIGINT, lambda *_: run.cancel())
     # One line rewritten in place on a terminal; in a log, one every few seconds and the last.
     progress = ProgressPrinter(sys.stderr)
+    shown_words, shown_log = None, 0
+
+    def show():
+        nonlocal shown_words, shown_log
+        log = run.log()
+        if len(log) > shown_log:
+            progress.interrupt()
+            for line in log[shown_log:]:
+                print(line, file=sys.stderr)
+            shown_log = len(log)
+        words = progress_words(run)
+        if words and words != shown_words:
+            progress.update(f"many_worlds: {words}")
+            shown_words = words
+
     try:
-        for line in process.stderr:
-            words = progress_line(line)
-            if words:
-                progress.update(f"many_worlds: {words}")
-            elif line.startswith("mwb-engine: "):
-                # Said once, as this command's error, if the run fails.
-                errors.append(line.strip()[len("mwb-engine: "):])
-            elif line.strip():
-                progress.interrupt()
-                print(line.rstrip(), file=sys.stderr)
-        summary = process.stdout.read()
-        process.wait()
+        while not run.finished():
+            show()
+            time.sleep(poll_s)
+        run.wait()
+        show()
     finally:
         progress.finish()
         # Blender installs its own handler from C, which Python reports as None.
         signal.signal(signal.SIGINT, previous if previous is not None else signal.SIG_DFL)
-    if process.returncode not in (0, 130):
-        raise CliError(errors[0] if errors else f"the engine failed (exit {process.returncode})")
-    for line in errors:
-        print(f"many_worlds: engine: {line}", file=sys.stderr)
-    print(summary.strip())
-    if process.returncode == 130:
+    failed = run.failure()
+    if failed is not None:
+        raise CliError(failed.message)
+    for warning in run.warnings():
+        print(f"many_worlds: engine: warning: {warning}", file=sys.stderr)
+    summary = run.summary()
+    if summary is not None:
+        text = summary.pop("text")
+        print(json.dumps(summary, separators=(",", ":")) if json_summary else text.strip())
+    if run.returncode() == int(engine.EngineExit.CANCELLED):
         print("many_worlds: interrupted; finished worlds are kept", file=sys.stderr)
-        return 130
+        return int(engine.EngineExit.CANCELLED)
     return 0
 
 
@@ -223,11 +238,14 @@ def command_merge(args):
 
 def command_info(args):
     require_file(args.library, "library")
-    command = [paths.engine_path(), "info", args.library] + (["--json"] if args.json else [])
-    result = subprocess.run(command, capture_output=True, text=True)
-    if result.returncode != 0:
-        raise CliError(result.stderr.strip().splitlines()[0].replace("mwb-engine: ", ""))
-    print(result.stdout.rstrip())
+    try:
+        run = engine.run_to_end(engine.InfoRequest(args.library, as_json=args.json))
+    except FileNotFoundError as error:
+        raise CliError(str(error))
+    failed = run.failure()
+    if failed is not None:
+        raise CliError(failed.message)
+    print(run.summary()["text"].rstrip())
     return 0
 
 
@@ -361,14 +379,14 @@ def command_seek(args):
             goal_path = goal.write_goal(os.path.join(folder, "goal.json"), specs)
         except ValueError as error:
             raise CliError(str(error))
-        argv = engine.seek_command(paths.engine_path(), os.path.abspath(args.library), goal_path, args.want,
-                                   args.budget, args.budget_s, args.seed, args.threads or 0, as_json=args.json)
+        request = engine.SeekRequest(os.path.abspath(args.library), goal_path, args.want, args.budget,
+                                     args.budget_s or 0.0, args.seed, args.threads or 0)
 
-        def progress_line(line):
-            progress = engine.parse_seek_progress(line)
+        def progress_words(run):
+            progress = run.seek_progress()
             return engine.seek_progress_text(progress) if progress else None
 
-        return follow_engine(argv, progress_line)
+        return follow_engine(request, progress_words, json_summary=args.json)
 
 
 # --- bake and preview -----------------------------------------------------------------------

@@ -2,8 +2,6 @@
 run the command line) export the scene and read the scene's run settings here, and nowhere else,
 so the same .blend and world range give the same library whichever way it was started."""
 import os
-import subprocess
-import tempfile
 
 from . import export
 from .core import engine as engine_process
@@ -20,19 +18,21 @@ class RunSetupError(Exception):
 
 def run_settings(scene, seed=None, duration_s=None):
     """The scene's run settings (Many Worlds sidebar) as a RunSettings; `seed` and `duration_s`
-    override the scene's when given (the command line's --seed and --duration)."""
+    override the scene's when given (the command line's --seed and --duration). A setting the
+    scene does not have takes the engine's default."""
     settings = getattr(scene, "mwb", None)
+    defaults = engine_process.RunSettings()
 
     def setting(name, default):
         return getattr(settings, name, default) if settings is not None else default
 
     return engine_process.RunSettings(
-        seed=int(seed if seed is not None else setting("seed", 0)),
-        duration_s=float(duration_s if duration_s is not None else setting("duration_s", 0.0)),
-        stop_at_rest=bool(setting("stop_at_rest", True)),
-        alpha=float(setting("alpha", 0.1)),
-        position_error_m=float(setting("position_error_mm", 1.0)) / 1000.0,
-        rotation_error_deg=float(setting("rotation_error_deg", 0.5)))
+        seed=int(seed if seed is not None else setting("seed", defaults.seed)),
+        duration_s=float(duration_s if duration_s is not None else setting("duration_s", defaults.duration_s)),
+        stop_at_rest=bool(setting("stop_at_rest", defaults.stop_at_rest)),
+        alpha=float(setting("alpha", defaults.alpha)),
+        position_error_m=float(setting("position_error_mm", defaults.position_error_m * 1000.0)) / 1000.0,
+        rotation_error_deg=float(setting("rotation_error_deg", defaults.rotation_error_deg)))
 
 
 def export_scene(context):
@@ -60,26 +60,25 @@ def _threads(scene, threads):
     return int(threads if threads is not None else getattr(getattr(scene, "mwb", None), "threads", 0))
 
 
-def sample_argv(context, library, first_world, world_count, threads=None, seed=None, duration_s=None):
-    """Export the scene and build the engine command that samples worlds
-    [first_world, first_world + world_count) of it into `library`, with the scene's run settings.
-    Returns (argv, export warnings); raises RunSetupError or FileNotFoundError (no engine)."""
-    engine = paths.engine_path()
+def sample_request(context, library, first_world, world_count, threads=None, seed=None, duration_s=None):
+    """Export the scene and build the request that samples worlds [first_world, first_world +
+    world_count) of it into `library`, with the scene's run settings. Returns (SampleRequest,
+    export warnings); raises RunSetupError."""
     scene_text, warnings = export_scene(context)
     settings = run_settings(context.scene, seed=seed, duration_s=duration_s)
-    argv = engine_process.sample_command(engine, write_scene_json(scene_text, library), library, settings,
-                                         first_world, world_count, _threads(context.scene, threads))
-    return argv, warnings
+    request = engine_process.SampleRequest(write_scene_json(scene_text, library), library, settings,
+                                           first_world, world_count, _threads(context.scene, threads))
+    return request, warnings
 
 
-def library_holds_run(argv):
-    """Whether the library of a `sample` command holds that command's run: 'same', 'other', or
-    'new' (no library yet). The engine answers from the same arguments it would sample with."""
-    result = subprocess.run(list(argv) + ["--dry-run"], capture_output=True, text=True)
-    if result.returncode != 0:
-        lines = result.stderr.strip().splitlines() or ["the engine failed"]
-        raise RunSetupError(lines[0].replace("mwb-engine: ", ""))
-    return result.stdout.split()[1]
+def library_holds_run(library, scene_text, settings):
+    """Whether `library` holds the run of this scene and settings (a LibraryHolding), answered by
+    the module from the library's header, as the engine itself decides."""
+    from . import _native
+    try:
+        return _native.library_holds_run(library, scene_text, settings)
+    except (_native.LibraryError, _native.SceneError) as error:
+        raise RunSetupError(str(error))
 
 
 def _next_world_index(library):
@@ -91,28 +90,18 @@ def sample_into_matching_library(context, library, known, first_world, world_cou
     """The Sample button's run: into `library` if it holds this run (or does not exist yet), else
     into the first of the `known` libraries that does (after the worlds it holds), else into a new
     library beside it, so a changed range, object or setting never stops Sample and never touches
-    the worlds sampled before. Returns (argv, library used, first world, export warnings)."""
-    engine = paths.engine_path()
+    the worlds sampled before. Returns (SampleRequest, library used, first world, export warnings)."""
     scene_text, warnings = export_scene(context)
     settings = run_settings(context.scene)
-    threads = _threads(context.scene, None)
-
-    def command(scene_json, target, first):
-        return engine_process.sample_command(engine, scene_json, target, settings, first, world_count, threads)
-
-    # Asked with a scratch copy of the export: the scene JSON beside a library is its own run's.
-    folder = os.path.dirname(library) or "."
-    os.makedirs(folder, exist_ok=True)
-    with tempfile.TemporaryDirectory(dir=folder) as scratch:
-        probe = os.path.join(scratch, "probe.scene.json")
-        with open(probe, "w") as f:
-            f.write(scene_text)
-        if library_holds_run(command(probe, library, first_world)) in ("same", "new"):
-            target, first = library, first_world
-        else:
-            target = next((other for other in known if other != library and os.path.isfile(other)
-                           and library_holds_run(command(probe, other, 0)) == "same"), None)
-            first = _next_world_index(target) if target is not None else 0
+    holding = engine_process.LibraryHolding
+    if library_holds_run(library, scene_text, settings) in (holding.SAME, holding.NEW):
+        target, first = library, first_world
+    else:
+        target = next((other for other in known if other != library and os.path.isfile(other)
+                       and library_holds_run(other, scene_text, settings) == holding.SAME), None)
+        first = _next_world_index(target) if target is not None else 0
     if target is None:
         target = paths.next_library_path(library, taken=set(known))
-    return command(write_scene_json(scene_text, target), target, first), target, first, warnings
+    request = engine_process.SampleRequest(write_scene_json(scene_text, target), target, settings, first,
+                                           world_count, _threads(context.scene, None))
+    return request, target, first, warnings

@@ -7,8 +7,6 @@
 namespace mwb {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 double parse_number(const std::string& flag, const std::string& text) {
     char* end = nullptr;
     const double value = std::strtod(text.c_str(), &end);
@@ -55,7 +53,7 @@ const char* engine_usage() {
            "  mwb-engine sample --scene SCENE.json --out LIB.mwb [--seed S] [--worlds A:B | --count N]\n"
            "                    [--threads T] [--duration SECONDS] [--alpha A] [--no-perturb] [--no-sleep] [--no-stop-at-rest]\n"
            "                    [--no-shared-prefix] [--position-error METRES] [--rotation-error DEGREES] [--progress]\n"
-           "                    [--world-time-limit SECONDS] [--in-process] [--dry-run]\n"
+           "                    [--world-time-limit SECONDS] [--in-process]\n"
            "  mwb-engine refine --library LIB.mwb --world W --bodies I,J --time SECONDS [--count N]\n"
            "                    [--first-child K] [--threads T] [--progress]\n"
            "  mwb-engine refine --library LIB.mwb --world W [--add NAME,...] [--update NAME,...] [--scene SCENE.json]\n"
@@ -65,7 +63,8 @@ const char* engine_usage() {
            "                  [--seed S] [--threads T] [--progress] [--json]\n"
            "  mwb-engine info LIB.mwb [--json]\n"
            "  mwb-engine merge OUT.mwb LIB.mwb...\n"
-           "  mwb-engine validate SCENE.json\n";
+           "  mwb-engine validate SCENE.json\n"
+           "Every command takes --events: JSON-lines events on stdout, and \"cancel\" on stdin stops a run.\n";
 }
 
 EngineOptions parse_engine_options(const std::vector<std::string>& args) {
@@ -85,17 +84,17 @@ EngineOptions parse_engine_options(const std::vector<std::string>& args) {
         else if (flag == "--worlds") parse_world_range(value(), options);
         else if (flag == "--count") options.world_count = parse_count(flag, value());
         else if (flag == "--threads") options.threads = static_cast<int>(parse_count(flag, value()));
-        else if (flag == "--duration") options.parameters.duration_s = parse_number(flag, value());
-        else if (flag == "--alpha") options.parameters.alpha_linear = options.parameters.alpha_angular = parse_number(flag, value());
+        else if (flag == "--duration") options.run.duration_s = parse_number(flag, value());
+        else if (flag == "--alpha") options.run.alpha = parse_number(flag, value());
         else if (flag == "--no-perturb") options.parameters.perturb = false;
         else if (flag == "--no-sleep") options.parameters.sleep = false;
-        else if (flag == "--no-stop-at-rest") options.parameters.stop_at_rest = false;
-        else if (flag == "--position-error") options.bounds.position_error_max_m = parse_number(flag, value());
-        else if (flag == "--rotation-error") options.bounds.rotation_error_max_rad = parse_number(flag, value()) * kPi / 180;
+        else if (flag == "--no-stop-at-rest") options.run.stop_at_rest = false;
+        else if (flag == "--position-error") options.run.position_error_m = parse_number(flag, value());
+        else if (flag == "--rotation-error") options.run.rotation_error_deg = parse_number(flag, value());
         else if (flag == "--progress") options.progress = true;
         else if (flag == "--in-process") options.in_process = true;
         else if (flag == "--no-shared-prefix") options.share_prefix = false;
-        else if (flag == "--dry-run") options.dry_run = true;
+        else if (flag == "--events") options.events = true;
         else if (flag == "--world-time-limit") options.world_time_limit_s = parse_number(flag, value());
         else if (flag == "--json") options.json = true;
         else if (flag == "--library") options.output_path = value();
@@ -121,6 +120,9 @@ EngineOptions parse_engine_options(const std::vector<std::string>& args) {
         else if (flag.rfind("--", 0) == 0) throw UsageError("unknown option " + flag);
         else positional.push_back(flag);
     }
+    // The run's settings reach the parameters and bounds as the module's run_hash sets them.
+    options.run.seed = options.base_seed;
+    apply_run_settings(options.run, options.parameters, options.bounds);
     if (options.command == "sample" || options.command == "worker") {
         if (options.scene_path.empty() || options.output_path.empty()) throw UsageError("sample needs --scene and --out");
         if (options.world_count == 0) throw UsageError("--count must be at least 1");

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "codec/CodecFormat.h"
+#include "library/RunSettings.h"
 #include "sim/SimulationParameters.h"
 
 namespace mwb {
@@ -38,13 +39,14 @@ struct EngineOptions {
     uint64_t budget_worlds = 0;         ///< seek: at most this many worlds made
     double budget_s = 0;                ///< seek: and at most this long (0: no limit)
     bool progress = false;
-    bool dry_run = false;               ///< sample: say whether --out holds this run, write nothing
+    bool events = false;                ///< JSON-lines events on stdout (common/EngineProtocol.h)
     bool in_process = false;            ///< sample: simulate in this process, not in supervised workers
     /// sample: worlds that start alike share their prefix (sim/SharedPrefix); off only to measure it
     bool share_prefix = true;
     double world_time_limit_s = 0;      ///< sample: a world still running after this is rejected (0: adaptive)
-    SimulationParameters parameters;
-    CodecBounds bounds;
+    RunSettings run;                    ///< sample: the settings a person chose (seed is base_seed)
+    SimulationParameters parameters;    ///< `run` applied, and the flags only the engine has
+    CodecBounds bounds;                 ///< `run` applied
 };
 
 /// Parses argv; throws UsageError with a one-line message.

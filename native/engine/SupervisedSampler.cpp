@@ -146,16 +146,18 @@ private:
 
     void store(Worker& w, const WorkerRecordHeader& h, const std::vector<uint8_t>& payload) {
         writer_.append_record(h.type, h.version, payload);
+        std::string reason;
         if (h.type == kRecordTypeRejection) {
+            reason = decode_rejection_record(payload.data(), payload.size(), "worker").reason;
             ++stats_.worlds_rejected;
-            ++stats_.reject_reasons[decode_rejection_record(payload.data(), payload.size(), "worker").reason];
+            ++stats_.reject_reasons[reason];
         } else {
             ++stats_.worlds_ok;
         }
         slowest_s_ = std::max(slowest_s_, std::chrono::duration<double>(Clock::now() - w.started).count());
         w.busy = false;
         ++w.records;
-        if (on_world_) on_world_(h.world_index, h.type == kRecordTypeWorld);
+        if (on_world_) on_world_(h.world_index, h.type == kRecordTypeWorld, reason);
         assign_next(w);
     }
 
@@ -185,7 +187,7 @@ private:
         writer_.append(world);
         ++stats_.worlds_rejected;
         ++stats_.reject_reasons[reason];
-        if (on_world_) on_world_(world_index, false);
+        if (on_world_) on_world_(world_index, false, reason);
     }
 
     double time_limit_s() const {

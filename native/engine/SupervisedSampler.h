@@ -25,8 +25,8 @@ struct SupervisedRun {
 };
 
 /// Called in the supervisor's thread after each world's record was appended (or after a world
-/// was rejected for a fault).
-using SupervisedWorldSink = std::function<void(uint64_t world_index, bool stored)>;
+/// was rejected for a fault); `reason` says why a rejected world was rejected.
+using SupervisedWorldSink = std::function<void(uint64_t world_index, bool stored, const std::string& reason)>;
 
 /// Samples `worlds` in worker processes, appending each record to `writer` as it arrives (in
 /// completion order). Setting `cancel` stops every worker at once; finished worlds stay stored.

@@ -17,12 +17,14 @@
 #include <unistd.h>
 #endif
 
+#include "EngineEvents.h"
 #include "EngineOptions.h"
 #ifndef _WIN32
 #include "SupervisedSampler.h"
 #include "WorldWorker.h"
 #endif
 #include "common/BuildInfo.h"
+#include "common/EngineProtocol.h"
 #include "library/ByteIO.h"
 #include "library/LibraryReader.h"
 #include "library/LibraryFormat.h"
@@ -58,38 +60,46 @@ std::string own_executable() {
 }
 #endif
 
-int run_sample(const EngineOptions& options, [[maybe_unused]] const std::vector<std::string>& args) {
+// Ctrl-C, or "cancel" on stdin for a program (EngineProtocol.h): finish the record being
+// written, keep every finished world, exit with EngineExit::Cancelled.
+void listen_for_cancel(const EngineOptions& options) {
+    std::signal(SIGINT, request_cancel);
+    std::signal(SIGTERM, request_cancel);
+    if (options.events) listen_for_cancel_on_stdin(g_progress.cancel);
+}
+
+int exit_status(bool cancelled) {
+    return static_cast<int>(cancelled ? EngineExit::Cancelled : EngineExit::Ok);
+}
+
+std::string worlds_done_text(const char* verb, uint64_t done, uint64_t total) {
+    return std::string(verb) + " " + std::to_string(done) + "/" + std::to_string(total) + " worlds";
+}
+
+int run_sample(const EngineOptions& options, [[maybe_unused]] const std::vector<std::string>& args,
+               EngineEvents& events) {
+    // The scene is parsed once here; the header, the writer and the simulation share it.
     Scene scene = load_scene_file(options.scene_path);
     RunHeader header{scene_to_json(scene), options.parameters, options.bounds, options.base_seed, engine_build()};
+    const Vec3 gravity = scene.world.gravity;
     CompiledScene compiled(std::move(scene), options.parameters);
-    if (options.dry_run) {
-        // What a front end asks before it samples: may this run go into that library?
-        std::string library = "new";
-        if (std::ifstream(options.output_path).good())
-            library = run_hash(LibraryReader(options.output_path).header()) == run_hash(header) ? "same" : "other";
-        std::cout << "library " << library << " run " << run_hash(header) << "\n";
-        return 0;
-    }
-    LibraryWriter writer(options.output_path, header);
-    for (const std::string& repair : writer.repairs()) std::cerr << "mwb-engine: " << repair << "\n";
+    LibraryWriter writer(options.output_path, header, gravity);
+    for (const std::string& repair : writer.repairs()) events.warning(EngineWarningCode::Repaired, repair);
     if (writer.header().engine_build != header.engine_build)
-        std::cerr << "mwb-engine: warning: " << options.output_path << " was sampled by "
-                  << describe_build(writer.header().engine_build) << "; this engine is " << engine_build()
-                  << ": worlds it adds may not reproduce with the other build\n";
+        events.warning(EngineWarningCode::OtherBuild,
+                       options.output_path + " was sampled by " + describe_build(writer.header().engine_build) +
+                           "; this engine is " + engine_build() + ": worlds it adds may not reproduce with the other build");
     // Worlds already in the file are kept, so an interrupted run resumes where it stopped.
     const std::set<uint64_t> present(writer.existing_world_indices().begin(), writer.existing_world_indices().end());
     std::vector<uint64_t> todo;
     for (uint64_t k = 0; k < options.world_count; ++k)
         if (!present.count(options.first_world + k)) todo.push_back(options.first_world + k);
-    std::signal(SIGINT, request_cancel);
-    std::signal(SIGTERM, request_cancel);
-    uint64_t stored = 0;
-    auto report = [&](uint64_t world_index) {
-        ++stored;
-        if (options.progress) {
-            std::cerr << "MWB-PROGRESS " << stored << " " << todo.size() << " world " << world_index << "\n";
-            std::cerr.flush();
-        }
+    listen_for_cancel(options);
+    uint64_t finished = 0;
+    auto report = [&](uint64_t world_index, bool stored, const std::string& reason) {
+        ++finished;
+        events.world(world_index, stored, reason);
+        events.progress(finished, todo.size(), {}, worlds_done_text("sampled", finished, todo.size()));
     };
     SamplingStatistics stats;
     if (options.in_process || !kWorkerProcesses) {
@@ -97,7 +107,8 @@ int run_sample(const EngineOptions& options, [[maybe_unused]] const std::vector<
             compiled, options.base_seed, todo, options.threads,
             [&](WorldResult&& world) {
                 writer.append(world);
-                if (world.status != WorldStatus::Cancelled) report(world.world_index);
+                if (world.status != WorldStatus::Cancelled)
+                    report(world.world_index, world.status == WorldStatus::Ok, world.reject_reason);
             },
             &g_progress, options.share_prefix);
     } else {
@@ -106,15 +117,25 @@ int run_sample(const EngineOptions& options, [[maybe_unused]] const std::vector<
         SupervisedRun run{own_executable(), args, options.threads > 0 ? options.threads : omp_get_max_threads(),
                           options.base_seed, options.world_time_limit_s};
         run.worker_args[0] = "worker";
-        stats = sample_supervised(run, todo, writer, [&](uint64_t world_index, bool) { report(world_index); },
-                                  g_progress.cancel);
+        stats = sample_supervised(run, todo, writer, report, g_progress.cancel);
 #endif
     }
-    std::cout << "sampled " << stats.worlds_ok << " worlds, rejected " << stats.worlds_rejected << ", skipped "
-              << present.size() << " already stored" << (g_progress.cancel ? ", cancelled" : "") << " in "
-              << stats.wall_time_s << " s -> " << options.output_path << "\n";
-    for (const auto& [reason, count] : stats.reject_reasons) std::cout << "  rejected " << count << ": " << reason << "\n";
-    return g_progress.cancel ? 130 : 0;
+    const bool cancelled = g_progress.cancel;
+    std::ostringstream text;
+    text << "sampled " << stats.worlds_ok << " worlds, rejected " << stats.worlds_rejected << ", skipped "
+         << present.size() << " already stored" << (cancelled ? ", cancelled" : "") << " in " << stats.wall_time_s
+         << " s -> " << options.output_path << "\n";
+    for (const auto& [reason, count] : stats.reject_reasons) text << "  rejected " << count << ": " << reason << "\n";
+    events.summary({{"library", options.output_path},
+                    {"stored", stats.worlds_ok},
+                    {"rejected", stats.worlds_rejected},
+                    {"skipped", present.size()},
+                    {"cancelled", cancelled},
+                    {"seconds", stats.wall_time_s},
+                    {"reject_reasons", stats.reject_reasons},
+                    {"scene_parses", scene_parses_in_this_process()}},
+                   text.str());
+    return exit_status(cancelled);
 }
 
 std::string describe_change(const EngineOptions& options, const RefineOutcome& outcome, double record_hz) {
@@ -137,7 +158,7 @@ std::string describe_change(const EngineOptions& options, const RefineOutcome& o
 
 // Refines one stored world (see refine_stored_world): `count` children that branch at the given
 // time, or that add or remove bodies from t = 0.
-int run_refine(const EngineOptions& options) {
+int run_refine(const EngineOptions& options, EngineEvents& events) {
     const LibraryReader reader(options.output_path);
     RefineRequest request;
     request.parent_world = options.parent_world;
@@ -151,25 +172,32 @@ int run_refine(const EngineOptions& options) {
     if (!options.scene_path.empty()) request.source_scene = load_scene_file(options.scene_path);
     request.threads = options.threads;
     LibraryWriter writer(options.output_path, reader.header());
-    std::signal(SIGINT, request_cancel);
-    std::signal(SIGTERM, request_cancel);
-    uint64_t stored = 0;
+    listen_for_cancel(options);
+    uint64_t finished = 0;
     const RefineOutcome outcome = refine_stored_world(
         reader, request, writer,
         [&](WorldResult&& world) {
-            if (world.status != WorldStatus::Cancelled) ++stored;
-            if (options.progress) {
-                std::cerr << "MWB-PROGRESS " << stored << " " << request.count << " world " << world.world_index << "\n";
-                std::cerr.flush();
-            }
+            if (world.status == WorldStatus::Cancelled) return;
+            ++finished;
+            events.world(world.world_index, world.status == WorldStatus::Ok, world.reject_reason);
+            events.progress(finished, request.count, {}, worlds_done_text("refined", finished, request.count));
         },
         &g_progress);
     const SamplingStatistics& stats = outcome.statistics;
-    std::cout << "refined world " << options.parent_world << " "
-              << describe_change(options, outcome, reader.header().parameters.record_hz) << " into worlds "
-              << outcome.first_child << ".." << outcome.first_child + options.world_count - 1 << ": " << stats.worlds_ok
-              << " stored, " << stats.worlds_rejected << " rejected in " << stats.wall_time_s << " s\n";
-    return g_progress.cancel ? 130 : 0;
+    std::ostringstream text;
+    text << "refined world " << options.parent_world << " "
+         << describe_change(options, outcome, reader.header().parameters.record_hz) << " into worlds "
+         << outcome.first_child << ".." << outcome.first_child + options.world_count - 1 << ": " << stats.worlds_ok
+         << " stored, " << stats.worlds_rejected << " rejected in " << stats.wall_time_s << " s";
+    events.summary({{"parent", options.parent_world},
+                    {"first_child", outcome.first_child},
+                    {"count", options.world_count},
+                    {"stored", stats.worlds_ok},
+                    {"rejected", stats.worlds_rejected},
+                    {"cancelled", bool(g_progress.cancel)},
+                    {"seconds", stats.wall_time_s}},
+                   text.str());
+    return exit_status(g_progress.cancel);
 }
 
 std::string with_commas(uint64_t n) {
@@ -181,9 +209,29 @@ std::string with_commas(uint64_t n) {
     return out;
 }
 
+// How a seek ended, in one line for people.
+std::string seek_outcome_text(const EngineOptions& options, const SeekOutcome& outcome) {
+    std::ostringstream made;
+    made.precision(1);
+    made << std::fixed << " (" << with_commas(outcome.worlds_made) << " worlds made in " << outcome.seconds << " s)";
+    std::ostringstream text;
+    if (outcome.reached) {
+        text << "seek: " << outcome.found.size() << (outcome.found.size() == 1 ? " world meets" : " worlds meet")
+             << " all " << outcome.box_count << " boxes:";
+        for (size_t k = 0; k < outcome.found.size() && k < 20; ++k) text << (k ? ", " : " ") << outcome.found[k];
+        if (outcome.found.size() > 20) text << ", ...";
+    } else {
+        text << "seek: " << (outcome.cancelled ? "cancelled" : "budget spent") << "; best world " << outcome.best_world
+             << " meets " << outcome.best_boxes_met << " of " << outcome.box_count << " boxes";
+        if (!outcome.found.empty()) text << " (" << outcome.found.size() << " of " << options.want << " wanted found)";
+    }
+    text << made.str();
+    return text.str();
+}
+
 // Searches the library for worlds meeting a goal (see GoalSearch.h), appending every world it
-// makes; progress lines let a front end show the best world as it improves.
-int run_seek(const EngineOptions& options) {
+// makes; progress events let a front end show the best world as it improves.
+int run_seek(const EngineOptions& options, EngineEvents& events) {
     std::ifstream goal_file(options.goal_path);
     if (!goal_file) throw GoalError("cannot read the goal file " + options.goal_path);
     const std::string goal_text((std::istreambuf_iterator<char>(goal_file)), std::istreambuf_iterator<char>());
@@ -197,46 +245,33 @@ int run_seek(const EngineOptions& options) {
     request.budget_s = options.budget_s;
     request.seed = options.base_seed;
     request.threads = options.threads;
-    std::signal(SIGINT, request_cancel);
-    std::signal(SIGTERM, request_cancel);
+    listen_for_cancel(options);
     const SeekOutcome outcome = seek_goal(
         options.output_path, request,
         [&](const SeekStatus& s) {
-            if (!options.progress) return;
-            std::cerr << "MWB-SEEK " << s.best_boxes_met << " " << s.box_count << " " << s.worlds_made << " "
-                      << s.best_world << " " << s.worlds_meeting_goal << "\n";
-            std::cerr.flush();
+            std::ostringstream text;
+            text << "seek: best " << s.best_boxes_met << " of " << s.box_count << " boxes (world " << s.best_world
+                 << "), " << with_commas(s.worlds_made) << " worlds made";
+            events.progress(s.worlds_made, options.budget_worlds,
+                            {{"seek",
+                              {{"boxes_met", s.best_boxes_met},
+                               {"box_count", s.box_count},
+                               {"worlds_made", s.worlds_made},
+                               {"best_world", s.best_world},
+                               {"worlds_meeting_goal", s.worlds_meeting_goal}}}},
+                            text.str());
         },
         &g_progress);
-    if (options.json) {
-        nlohmann::json j{{"reached", outcome.reached},         {"found", outcome.found},
-                         {"best", outcome.best_world},         {"best_boxes_met", outcome.best_boxes_met},
-                         {"boxes", outcome.box_count},         {"worlds_made", outcome.worlds_made},
-                         {"refinements", outcome.refinements}, {"seconds", outcome.seconds},
-                         {"cancelled", outcome.cancelled}};
-        std::cout << j.dump() << "\n";
-    } else {
-        std::ostringstream made;
-        made.precision(1);
-        made << std::fixed << " (" << with_commas(outcome.worlds_made) << " worlds made in " << outcome.seconds << " s)";
-        if (outcome.reached) {
-            std::cout << "seek: " << outcome.found.size() << (outcome.found.size() == 1 ? " world meets" : " worlds meet")
-                      << " all " << outcome.box_count << " boxes:";
-            for (size_t k = 0; k < outcome.found.size() && k < 20; ++k) std::cout << (k ? ", " : " ") << outcome.found[k];
-            if (outcome.found.size() > 20) std::cout << ", ...";
-            std::cout << made.str() << "\n";
-        } else {
-            std::cout << "seek: " << (outcome.cancelled ? "cancelled" : "budget spent") << "; best world "
-                      << outcome.best_world << " meets " << outcome.best_boxes_met << " of " << outcome.box_count
-                      << " boxes";
-            if (!outcome.found.empty()) std::cout << " (" << outcome.found.size() << " of " << options.want << " wanted found)";
-            std::cout << made.str() << "\n";
-        }
-    }
-    return outcome.cancelled ? 130 : 0;
+    const nlohmann::json fields{{"reached", outcome.reached},         {"found", outcome.found},
+                                {"best", outcome.best_world},         {"best_boxes_met", outcome.best_boxes_met},
+                                {"boxes", outcome.box_count},         {"worlds_made", outcome.worlds_made},
+                                {"refinements", outcome.refinements}, {"seconds", outcome.seconds},
+                                {"cancelled", outcome.cancelled}};
+    events.summary(fields, options.json ? fields.dump() : seek_outcome_text(options, outcome));
+    return exit_status(outcome.cancelled);
 }
 
-int run_info(const EngineOptions& options) {
+int run_info(const EngineOptions& options, EngineEvents& events) {
     const LibraryReader reader(options.inputs[0]);
     const Scene scene = scene_from_json(reader.scene_json());
     uint64_t motion_bytes = 0, body_frames = 0;
@@ -265,49 +300,97 @@ int run_info(const EngineOptions& options) {
                      {"scene_revision", reader.scene_revision()},
                      {"engine_build", reader.header().engine_build},
                      {"warnings", reader.warnings()}};
+    std::ostringstream text;
     if (options.json) {
-        std::cout << j.dump(2) << "\n";
-        return 0;
+        text << j.dump(2);
+    } else {
+        text << reader.path() << ": " << reader.worlds().size() << " worlds, " << reader.rejections().size()
+             << " rejected, " << scene.bodies.size() << " bodies, " << reader.file_size() << " bytes, "
+             << j["motion_bytes_per_body_frame"].get<double>() << " motion bytes per body-frame, scene "
+             << scene_hash(reader.header()) << "\n";
+        text << "  made by " << describe_build(reader.header().engine_build) << "\n";
+        for (const auto& [reason, count] : reasons) text << "  rejected " << count << ": " << reason << "\n";
+        for (const std::string& w : reader.warnings()) text << "  warning: " << w << "\n";
     }
-    std::cout << reader.path() << ": " << reader.worlds().size() << " worlds, " << reader.rejections().size()
-              << " rejected, " << scene.bodies.size() << " bodies, " << reader.file_size() << " bytes, "
-              << j["motion_bytes_per_body_frame"].get<double>() << " motion bytes per body-frame, scene "
-              << scene_hash(reader.header()) << "\n";
-    std::cout << "  made by " << describe_build(reader.header().engine_build) << "\n";
-    for (const auto& [reason, count] : reasons) std::cout << "  rejected " << count << ": " << reason << "\n";
-    for (const std::string& w : reader.warnings()) std::cout << "  warning: " << w << "\n";
+    events.summary(std::move(j), text.str());
     return 0;
 }
 
-int run_merge(const EngineOptions& options) {
+int run_merge(const EngineOptions& options, EngineEvents& events) {
     for (const std::string& warning : merge_libraries(options.inputs, options.output_path))
-        std::cerr << "mwb-engine: warning: " << warning << "\n";
+        events.warning(EngineWarningCode::Merge, warning);
     const LibraryReader merged(options.output_path);
-    std::cout << "merged " << options.inputs.size() << " libraries: " << merged.worlds().size() << " worlds -> "
-              << options.output_path << "\n";
+    std::ostringstream text;
+    text << "merged " << options.inputs.size() << " libraries: " << merged.worlds().size() << " worlds -> "
+         << options.output_path;
+    events.summary({{"inputs", options.inputs.size()}, {"worlds", merged.worlds().size()}, {"library", options.output_path}},
+                   text.str());
     return 0;
 }
 
-int run_validate(const EngineOptions& options) {
+int run_validate(const EngineOptions& options, EngineEvents& events) {
     const Scene scene = load_scene_file(options.inputs[0]);
-    std::cout << options.inputs[0] << ": valid scene '" << scene.name << "', " << scene.bodies.size() << " bodies, "
-              << scene.constraints.size() << " constraints\n";
+    std::ostringstream text;
+    text << options.inputs[0] << ": valid scene '" << scene.name << "', " << scene.bodies.size() << " bodies, "
+         << scene.constraints.size() << " constraints";
+    events.summary({{"scene", scene.name}, {"bodies", scene.bodies.size()}, {"constraints", scene.constraints.size()}},
+                   text.str());
     return 0;
 }
 
-int run(const std::vector<std::string>& args) {
-    const EngineOptions options = parse_engine_options(args);
-    if (options.command == "sample") return run_sample(options, args);
+int run(const EngineOptions& options, const std::vector<std::string>& args, EngineEvents& events) {
+    if (options.command == "sample") return run_sample(options, args, events);
 #ifdef _WIN32
     if (options.command == "worker") throw UsageError("worker processes are not available on Windows");
 #else
     if (options.command == "worker") return run_world_worker(options);
 #endif
-    if (options.command == "refine") return run_refine(options);
-    if (options.command == "seek") return run_seek(options);
-    if (options.command == "info") return run_info(options);
-    if (options.command == "merge") return run_merge(options);
-    return run_validate(options);
+    if (options.command == "refine") return run_refine(options, events);
+    if (options.command == "seek") return run_seek(options, events);
+    if (options.command == "info") return run_info(options, events);
+    if (options.command == "merge") return run_merge(options, events);
+    return run_validate(options, events);
+}
+
+// The lines of a SceneError: each one problem.
+std::vector<std::string> lines_of(const std::string& text) {
+    std::vector<std::string> lines;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);)
+        if (!line.empty()) lines.push_back(line);
+    return lines;
+}
+
+// Runs the command; every failure becomes one error event and its EngineExit.
+int run_reporting_failures(const std::vector<std::string>& args, EngineEvents& events) {
+    auto fail = [&](EngineErrorCode code, EngineExit exit, const std::string& message) {
+        events.error(code, message);
+        return static_cast<int>(exit);
+    };
+    try {
+        const EngineOptions options = parse_engine_options(args);
+        events.start(options.command);
+        return run(options, args, events);
+    } catch (const UsageError& error) {
+        const int status = fail(EngineErrorCode::Usage, EngineExit::Usage, error.what());
+        if (!events.as_json()) std::cerr << engine_usage();
+        return status;
+    } catch (const RefineError& error) {
+        return fail(EngineErrorCode::Refine, EngineExit::Usage, error.what());
+    } catch (const GoalError& error) {
+        return fail(EngineErrorCode::Goal, EngineExit::Usage, error.what());
+    } catch (const SceneError& error) {
+        const std::vector<std::string> problems = lines_of(error.what());
+        events.error(EngineErrorCode::InvalidScene, "invalid scene: " + (problems.empty() ? "" : problems[0]), problems,
+                     "invalid scene:");
+        return static_cast<int>(EngineExit::InvalidScene);
+    } catch (const OtherRunError& error) {
+        return fail(EngineErrorCode::OtherRun, EngineExit::BadLibrary, error.what());
+    } catch (const LibraryError& error) {
+        return fail(EngineErrorCode::BadLibrary, EngineExit::BadLibrary, error.what());
+    } catch (const std::exception& error) {
+        return fail(EngineErrorCode::Internal, EngineExit::Failed, error.what());
+    }
 }
 
 }  // namespace
@@ -315,25 +398,9 @@ int run(const std::vector<std::string>& args) {
 
 int main(int argc, char** argv) {
     const std::vector<std::string> args(argv + 1, argv + argc);
-    try {
-        return mwb::run(args);
-    } catch (const mwb::UsageError& error) {
-        std::cerr << "mwb-engine: " << error.what() << "\n" << mwb::engine_usage();
-        return 2;
-    } catch (const mwb::RefineError& error) {
-        std::cerr << "mwb-engine: " << error.what() << "\n";
-        return 2;
-    } catch (const mwb::GoalError& error) {
-        std::cerr << "mwb-engine: " << error.what() << "\n";
-        return 2;
-    } catch (const mwb::SceneError& error) {
-        std::cerr << "mwb-engine: invalid scene:\n" << error.what() << "\n";
-        return 3;
-    } catch (const mwb::LibraryError& error) {
-        std::cerr << "mwb-engine: " << error.what() << "\n";
-        return 4;
-    } catch (const std::exception& error) {
-        std::cerr << "mwb-engine: " << error.what() << "\n";
-        return 1;
-    }
+    auto given = [&](const char* flag) { return std::find(args.begin(), args.end(), flag) != args.end(); };
+    // A worker's standard output carries its records to the supervisor, never events.
+    const bool worker = !args.empty() && args[0] == "worker";
+    mwb::EngineEvents events(given("--events") && !worker, given("--progress"));
+    return mwb::run_reporting_failures(args, events);
 }

@@ -8,6 +8,7 @@ void bind_scene(py::module_& m);
 void bind_sampler(py::module_& m);
 void bind_library(py::module_& m);
 void bind_query(py::module_& m);
+void bind_run(py::module_& m);
 }  // namespace mwb::python
 
 PYBIND11_MODULE(_native, m) {
@@ -16,4 +17,5 @@ PYBIND11_MODULE(_native, m) {
     mwb::python::bind_sampler(m);
     mwb::python::bind_library(m);
     mwb::python::bind_query(m);
+    mwb::python::bind_run(m);
 }

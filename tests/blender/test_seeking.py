@@ -71,7 +71,7 @@ def test_seek_refines_until_a_world_meets_every_box_and_previews_the_best(quicks
     assert not any(boxes_met(w) == 3 for w in before), "the 8 first worlds should not meet the goal yet"
     run, seen = seek_and_follow(want=1, budget_worlds=600)
     assert SESSION.last_error == "", SESSION.last_error
-    outcome = engine_process.parse_seek_outcome(run.summary())
+    outcome = engine_process.SeekOutcome.from_summary(run.summary())
     assert outcome is not None, run.summary()
     settings = bpy.context.scene.mwb
     made = set(SESSION.view.world_indices) - before
@@ -109,7 +109,7 @@ def test_a_goal_some_worlds_meet_already_is_reached_at_once_and_the_best_preview
     meeting = sorted(w for w in SESSION.view.world_indices if boxes_met(w) == 1)
     assert 2 <= len(meeting) < 8, "some of the first worlds should end with the marble in the left bin"
     run, _ = seek_and_follow(want=2, budget_worlds=50)
-    outcome = engine_process.parse_seek_outcome(run.summary())
+    outcome = engine_process.SeekOutcome.from_summary(run.summary())
     assert outcome.reached and sorted(outcome.found) == meeting and outcome.worlds_made == 0
     assert len(SESSION.view.world_indices) == 8
     assert SESSION.status.startswith(f"Goal reached: {len(meeting)} worlds meet the box ("), SESSION.status
@@ -151,7 +151,7 @@ def test_an_order_the_engine_refuses_reads_as_one_line(quickstart):
     # A cycle written by a script past the After menu (which never offers one).
     boxes[0]["after_box"], boxes[1]["after_box"] = 1, 0
     run, _ = seek_and_follow(want=1, budget_worlds=10)
-    assert run.returncode() == 2
+    assert run.returncode() == int(engine_process.EngineExit.USAGE) and run.failure().code == "goal"
     assert SESSION.last_error and "\n" not in SESSION.last_error and not SESSION.last_error.startswith("mwb-engine")
     assert SESSION.status == f"Seeking failed: {SESSION.last_error}"
     assert len(SESSION.view.world_indices) == 8

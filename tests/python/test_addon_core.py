@@ -1,5 +1,5 @@
 """The add-on's Blender-free helpers (many_worlds.core), in plain Python: array shaping for drawing
-and baking, engine progress lines and commands, paths, lineage."""
+and baking, engine requests, paths, lineage."""
 from types import SimpleNamespace
 
 import numpy as np
@@ -34,33 +34,37 @@ def test_sampled_quaternions_stay_on_one_hemisphere_and_interpolate():
     assert np.allclose(np.linalg.norm(rot, axis=-1), 1)
 
 
-def test_progress_lines_and_command():
-    assert engine.parse_progress("MWB-PROGRESS 3 10 world 7\n") == (3, 10, 7)
-    assert engine.parse_progress("mwb-engine: something") is None
+def test_a_sample_request_passes_every_run_setting():
     settings = engine.RunSettings(seed=5, duration_s=3.0, stop_at_rest=False, alpha=0.25)
-    argv = engine.sample_command("/e", "s.json", "l.mwb", settings, 10, 4, 2)
+    argv = engine.SampleRequest("s.json", "l.mwb", settings, 10, 4, 2).arguments()
+    assert argv[0] == "sample" and argv[argv.index("--scene") + 1] == "s.json"
     assert argv[argv.index("--worlds") + 1] == "10:14" and argv[argv.index("--seed") + 1] == "5"
     assert "--no-stop-at-rest" in argv and argv[argv.index("--duration") + 1] == "3.0"
     assert argv[argv.index("--alpha") + 1] == "0.25"
+    # Settings left unset are the engine's own defaults, read from the one definition.
+    default = engine.RunSettings()
+    assert (default.alpha, default.position_error_m, default.rotation_error_deg) == (0.1, 0.001, 0.5)
     assert paths.scene_json_path("/a/shot.mwb") == "/a/shot.scene.json"
     assert paths.default_library_name("/x/shot.blend") == "shot.mwb"
 
 
-def test_change_bodies_command_adds_and_removes_by_name():
-    argv = engine.change_bodies_command("/e", "l.mwb", 3, ["Ball", "Cup"], [], "l.added.scene.json", 8, 2)
-    assert argv[:6] == ["/e", "refine", "--library", "l.mwb", "--world", "3"]
+def test_a_change_request_adds_and_removes_by_name():
+    argv = engine.ChangeRequest("l.mwb", 3, add=["Ball", "Cup"], scene_json="l.added.scene.json", count=8,
+                                threads=2).arguments()
+    assert argv[:5] == ["refine", "--library", "l.mwb", "--world", "3"]
     assert argv[argv.index("--add") + 1] == "Ball,Cup" and argv[argv.index("--scene") + 1] == "l.added.scene.json"
     assert "--remove" not in argv and "--time" not in argv and "--bodies" not in argv
-    assert argv[argv.index("--count") + 1] == "8" and "--progress" in argv
-    argv = engine.change_bodies_command("/e", "l.mwb", 3, ["Box.001"], ["Box"], "s.json", 4, 0, first_child=100)
+    assert argv[argv.index("--count") + 1] == "8"
+    argv = engine.ChangeRequest("l.mwb", 3, add=["Box.001"], remove=["Box"], scene_json="s.json", count=4,
+                                first_child=100).arguments()
     assert argv[argv.index("--remove") + 1] == "Box" and argv[argv.index("--first-child") + 1] == "100"
-    argv = engine.change_bodies_command("/e", "l.mwb", 3, [], ["Box"], "", 4, 0)
+    argv = engine.ChangeRequest("l.mwb", 3, remove=["Box"], count=4).arguments()
     assert "--add" not in argv and "--scene" not in argv
     for add, remove, scene, phrase in (([], [], "s.json", "nothing to add, remove or update"),
                                        (["Ball"], [], "", "needs the scene JSON"),
                                        (["a,b"], [], "s.json", "without commas")):
         try:
-            engine.change_bodies_command("/e", "l.mwb", 3, add, remove, scene, 4, 0)
+            engine.ChangeRequest("l.mwb", 3, add=add, remove=remove, scene_json=scene, count=4)
         except ValueError as error:
             assert phrase in str(error)
         else:

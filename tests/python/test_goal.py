@@ -80,31 +80,29 @@ def test_an_order_that_would_close_a_cycle_is_recognised():
     assert not closes_order_cycle(afters, 3, -1)
 
 
-def test_seek_command_progress_and_summary():
-    argv = engine.seek_command("/e", "l.mwb", "l.goal.json", 3, 2000, threads=2)
-    assert argv[:6] == ["/e", "seek", "--library", "l.mwb", "--goal", "l.goal.json"]
+def test_seek_request_and_the_texts_of_its_progress_and_outcome():
+    argv = engine.SeekRequest("l.mwb", "l.goal.json", 3, 2000, threads=2).arguments()
+    assert argv[:5] == ["seek", "--library", "l.mwb", "--goal", "l.goal.json"]
     assert argv[argv.index("--want") + 1] == "3" and argv[argv.index("--budget-worlds") + 1] == "2000"
-    assert argv[argv.index("--threads") + 1] == "2" and "--progress" in argv
+    assert argv[argv.index("--threads") + 1] == "2"
     assert "--budget-s" not in argv and "--seed" not in argv and "--json" not in argv
-    argv = engine.seek_command("/e", "l.mwb", "g", 1, 10, budget_s=60, seed=4, as_json=True)
-    assert argv[argv.index("--budget-s") + 1] == "60.0" and argv[argv.index("--seed") + 1] == "4" and "--json" in argv
+    argv = engine.SeekRequest("l.mwb", "g", 1, 10, budget_s=60, seed=4).arguments()
+    assert argv[argv.index("--budget-s") + 1] == "60.0" and argv[argv.index("--seed") + 1] == "4"
 
-    progress = engine.parse_seek_progress("MWB-SEEK 5 6 3120 418 0\n")
-    assert progress == engine.SeekProgress(5, 6, 3120, 418, 0)
+    progress = engine.SeekProgress(5, 6, 3120, 418, 0)
     assert engine.seek_progress_text(progress) == "best 5 of 6 boxes (world 418), 3,120 worlds made"
-    assert engine.parse_seek_progress("MWB-PROGRESS 3 10") is None and engine.parse_seek_progress("MWB-SEEK 1") is None
-    assert engine.parse_progress("MWB-SEEK 5 6 3120 418 0") is None
 
-    reached = engine.parse_seek_outcome('{"reached": true, "found": [412, 415, 430], "best": 412, '
-                                        '"best_boxes_met": 6, "boxes": 6, "worlds_made": 1204, "seconds": 61.2}\n')
+    reached = engine.SeekOutcome.from_summary({"reached": True, "found": [412, 415, 430], "best": 412,
+                                               "best_boxes_met": 6, "boxes": 6, "worlds_made": 1204, "seconds": 61.2})
     assert reached.found == (412, 415, 430) and reached.best == 412
     assert engine.seek_outcome_text(reached, 3) == ("Goal reached: 3 worlds meet all 6 boxes (412, 415, 430); "
                                                     "1,204 worlds made in 61.2 s")
-    spent = engine.parse_seek_outcome('{"reached": false, "found": [], "best": 418, "best_boxes_met": 5, '
-                                      '"boxes": 6, "worlds_made": 2000, "seconds": 80.0}')
+    spent = engine.SeekOutcome.from_summary({"reached": False, "found": [], "best": 418, "best_boxes_met": 5,
+                                             "boxes": 6, "worlds_made": 2000, "seconds": 80.0})
     assert engine.seek_outcome_text(spent, 1) == ("Budget spent: best world 418 meets 5 of 6 boxes; "
                                                   "2,000 worlds made in 80.0 s")
-    assert engine.parse_seek_outcome("seek: budget spent; best world 418 meets 5 of 6 boxes") is None
+    # Another command's summary is not a seek's outcome.
+    assert engine.SeekOutcome.from_summary({"stored": 3, "rejected": 0, "text": "sampled 3 worlds"}) is None
 
 
 def test_seek_summary_says_how_many_were_wanted_and_names_a_single_box():

@@ -1,7 +1,7 @@
 """Library files written by the engine process: reading, crash safety under kill -9, following,
 merging, and the engine's command-line errors."""
-import os
 import json
+import os
 import random
 import signal
 import subprocess
@@ -94,9 +94,10 @@ def test_kill_9_at_random_moments_never_loses_finished_worlds(native, engine, tm
 def test_ctrl_c_keeps_finished_worlds(native, engine, tmp_path):
     out = tmp_path / "interrupted.mwb"
     proc = subprocess.Popen([engine, "sample", "--scene", QUICKSTART, "--out", str(out), "--worlds", "0:400",
-                             "--threads", "2", "--progress"], stderr=subprocess.PIPE, text=True)
-    for line in proc.stderr:
-        if line.startswith("MWB-PROGRESS 3 "):
+                             "--threads", "2", "--events"], stdout=subprocess.PIPE, text=True)
+    for line in proc.stdout:
+        event = json.loads(line)
+        if event["event"] == "progress" and event["done"] == 3:
             proc.send_signal(signal.SIGINT)
             break
     proc.communicate()

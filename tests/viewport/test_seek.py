@@ -148,7 +148,7 @@ def steps():
                 shot = True
     seek_s = time.monotonic() - started
     assert SESSION.last_error == "", SESSION.last_error
-    outcome = engine_process.parse_seek_outcome(run.summary())
+    outcome = engine_process.SeekOutcome.from_summary(run.summary())
     made = len(SESSION.view.world_indices) - len(first)
     assert outcome is not None and made == outcome.worlds_made > 0, (run.summary(), made)
     assert [item.world_index for item in settings.worlds] == SESSION.view.world_indices

@@ -1,31 +1,158 @@
-"""Runs mwb-engine as a child process and follows its progress without blocking the caller.
+"""Runs mwb-engine as a child process and reads its events without blocking the caller.
 
-Bulk sampling never runs ODE inside Blender: a crash or a long run stays in the child. A reader
-thread drains stderr (progress lines) and stdout so the child never blocks on a full pipe; the
-caller polls `progress()` and `finished()` from a timer.
+Bulk sampling never runs ODE inside Blender: a crash or a long run stays in the child. Every
+command is built from a typed request here, and the engine answers in events (JSON lines on its
+standard output, common/EngineProtocol.h): nothing here or in a caller reads the engine's text.
+A reader thread takes the events as they come and drains stderr, so the child never blocks on
+a full pipe; the caller polls `progress()` and `finished()` from a timer.
 """
 import json
-import signal
 import subprocess
 import threading
-from dataclasses import dataclass
-from typing import Tuple
+from dataclasses import dataclass, field
+from typing import Optional, Tuple
 
-PROGRESS_TAG = "MWB-PROGRESS"
-SEEK_TAG = "MWB-SEEK"
+from .. import _native
+from . import paths
+
+PROTOCOL = _native.engine_protocol
+EngineExit = _native.EngineExit
+RunSettings = _native.RunSettings
+LibraryHolding = _native.LibraryHolding
+# The error code of sampling into a library that holds another run (PROTOCOL.ERROR_CODES has it).
+OTHER_RUN = "other_run"
 
 
-def parse_progress(line):
-    """'MWB-PROGRESS 3 10 world 7' -> (3, 10, 7); anything else -> None."""
-    parts = line.split()
-    if len(parts) >= 3 and parts[0] == PROGRESS_TAG:
-        try:
-            world = int(parts[4]) if len(parts) >= 5 and parts[3] == "world" else -1
-            return int(parts[1]), int(parts[2]), world
-        except ValueError:
-            return None
-    return None
+# --- requests: one per engine command ---------------------------------------------------------
 
+@dataclass(frozen=True)
+class SampleRequest:
+    """Sample worlds [first_world, first_world + world_count) of the scene JSON file `scene_json`
+    into `library` with `settings` (a RunSettings)."""
+    scene_json: str
+    library: str
+    settings: RunSettings
+    first_world: int
+    world_count: int
+    threads: int = 0
+
+    def arguments(self):
+        s = self.settings
+        args = ["sample", "--scene", self.scene_json, "--out", self.library, "--seed", str(int(s.seed)),
+                "--worlds", f"{int(self.first_world)}:{int(self.first_world + self.world_count)}",
+                "--threads", str(int(self.threads or 0)), "--alpha", repr(float(s.alpha)),
+                "--position-error", repr(float(s.position_error_m)),
+                "--rotation-error", repr(float(s.rotation_error_deg))]
+        if s.duration_s > 0:
+            args += ["--duration", repr(float(s.duration_s))]
+        if not s.stop_at_rest:
+            args.append("--no-stop-at-rest")
+        return args
+
+
+@dataclass(frozen=True)
+class RefineRequest:
+    """`count` children of `world` branching at `time_s` (snapped down to a recorded frame by the
+    engine), re-simulating the scene body indices `bodies`; appended to `library` itself."""
+    library: str
+    world: int
+    bodies: Tuple[int, ...]
+    time_s: float
+    count: int
+    threads: int = 0
+    first_child: Optional[int] = None
+
+    def arguments(self):
+        args = ["refine", "--library", self.library, "--world", str(int(self.world)),
+                "--bodies", ",".join(str(int(b)) for b in self.bodies), "--time", repr(float(self.time_s)),
+                "--count", str(int(self.count)), "--threads", str(int(self.threads or 0))]
+        if self.first_child is not None:
+            args += ["--first-child", str(int(self.first_child))]
+        return args
+
+
+@dataclass(frozen=True)
+class ChangeRequest:
+    """`count` children of `world` in which the objects `add` (defined in the scene JSON file
+    `scene_json`) exist from 0 s, the objects `remove` do not, and the objects `update` start as
+    `scene_json` defines them now (remove + add); what they touch is simulated anew, every other
+    body replays the parent. Appended to `library` itself.
+
+    Raises ValueError for a change that cannot be expressed: nothing to change, adding or updating
+    without a scene, or a name the engine cannot take apart (names are comma-separated on its
+    command line)."""
+    library: str
+    world: int
+    add: Tuple[str, ...] = ()
+    remove: Tuple[str, ...] = ()
+    update: Tuple[str, ...] = ()
+    scene_json: str = ""
+    count: int = 1
+    threads: int = 0
+    first_child: Optional[int] = None
+
+    def __post_init__(self):
+        for name in ("add", "remove", "update"):
+            object.__setattr__(self, name, tuple(getattr(self, name)))
+        if not self.add and not self.remove and not self.update:
+            raise ValueError("nothing to add, remove or update")
+        if (self.add or self.update) and not self.scene_json:
+            raise ValueError("adding or updating objects needs the scene JSON that defines them")
+        for name in self.add + self.remove + self.update:
+            if not name or "," in name:
+                raise ValueError(f"the object name {name!r} cannot be passed to the engine: rename it without commas")
+
+    def arguments(self):
+        args = ["refine", "--library", self.library, "--world", str(int(self.world))]
+        if self.add:
+            args += ["--add", ",".join(self.add)]
+        if self.update:
+            args += ["--update", ",".join(self.update)]
+        if self.add or self.update:
+            args += ["--scene", self.scene_json]
+        if self.remove:
+            args += ["--remove", ",".join(self.remove)]
+        args += ["--count", str(int(self.count)), "--threads", str(int(self.threads or 0))]
+        if self.first_child is not None:
+            args += ["--first-child", str(int(self.first_child))]
+        return args
+
+
+@dataclass(frozen=True)
+class SeekRequest:
+    """Refine the worlds of `library` (appending to it) until `want` worlds meet the goal file
+    `goal`, within `budget_worlds` new worlds and, when `budget_s` > 0, that many seconds.
+    `seed`: the engine's when None."""
+    library: str
+    goal: str
+    want: int
+    budget_worlds: int
+    budget_s: float = 0.0
+    seed: Optional[int] = None
+    threads: int = 0
+
+    def arguments(self):
+        args = ["seek", "--library", self.library, "--goal", self.goal, "--want", str(int(self.want)),
+                "--budget-worlds", str(int(self.budget_worlds)), "--threads", str(int(self.threads or 0))]
+        if self.budget_s and self.budget_s > 0:
+            args += ["--budget-s", repr(float(self.budget_s))]
+        if self.seed is not None:
+            args += ["--seed", str(int(self.seed))]
+        return args
+
+
+@dataclass(frozen=True)
+class InfoRequest:
+    """What the library at `library` holds (the summary's fields are `mwb-engine info --json`'s);
+    `as_json`: the summary's text is that JSON, for people who asked for it."""
+    library: str
+    as_json: bool = False
+
+    def arguments(self):
+        return ["info", self.library] + (["--json"] if self.as_json else [])
+
+
+# --- what runs report --------------------------------------------------------------------------
 
 @dataclass(frozen=True)
 class SeekProgress:
@@ -37,15 +164,35 @@ class SeekProgress:
     worlds_meeting_goal: int
 
 
-def parse_seek_progress(line):
-    """'MWB-SEEK 5 6 3120 418 0' -> SeekProgress(5, 6, 3120, 418, 0); anything else -> None."""
-    parts = line.split()
-    if len(parts) < 6 or parts[0] != SEEK_TAG:
-        return None
-    try:
-        return SeekProgress(*(int(v) for v in parts[1:6]))
-    except ValueError:
-        return None
+@dataclass(frozen=True)
+class SeekOutcome:
+    """How a seek ended: the fields of its summary event."""
+    reached: bool
+    found: Tuple[int, ...]   # worlds meeting every box
+    best: int                # the world meeting the most boxes (-1: none)
+    best_boxes_met: int
+    boxes: int
+    worlds_made: int
+    seconds: float
+
+    @classmethod
+    def from_summary(cls, fields):
+        """The outcome in a seek's summary fields, or None for another command's."""
+        if fields is None or "reached" not in fields:
+            return None
+        return cls(reached=bool(fields["reached"]), found=tuple(int(w) for w in fields["found"]),
+                   best=int(fields["best"]), best_boxes_met=int(fields["best_boxes_met"]),
+                   boxes=int(fields["boxes"]), worlds_made=int(fields["worlds_made"]),
+                   seconds=float(fields["seconds"]))
+
+
+@dataclass(frozen=True)
+class EngineFailure:
+    """Why a run failed: the error event's code (one of PROTOCOL.ERROR_CODES, or "crashed" when the
+    engine stopped without saying why) and its message in the user's words."""
+    code: str
+    message: str
+    problems: Tuple[str, ...] = ()
 
 
 def _boxes(count):
@@ -60,34 +207,6 @@ def seek_progress_text(progress):
     if progress.worlds_meeting_goal:
         text += f", {progress.worlds_meeting_goal:,} meet all"
     return text
-
-
-@dataclass(frozen=True)
-class SeekOutcome:
-    """How a seek ended: `mwb-engine seek --json` prints it as one JSON object."""
-    reached: bool
-    found: Tuple[int, ...]   # worlds meeting every box
-    best: int                # the world meeting the most boxes (-1: none)
-    best_boxes_met: int
-    boxes: int
-    worlds_made: int
-    seconds: float
-
-
-def parse_seek_outcome(text):
-    """The SeekOutcome of `mwb-engine seek --json`'s output, or None when it printed none (a
-    cancelled or failed run may end without one)."""
-    for line in reversed(text.strip().splitlines()):
-        try:
-            data = json.loads(line)
-        except ValueError:
-            continue
-        if isinstance(data, dict) and "reached" in data:
-            return SeekOutcome(reached=bool(data["reached"]), found=tuple(int(w) for w in data.get("found", [])),
-                               best=int(data.get("best", -1)), best_boxes_met=int(data.get("best_boxes_met", 0)),
-                               boxes=int(data.get("boxes", 0)), worlds_made=int(data.get("worlds_made", 0)),
-                               seconds=float(data.get("seconds", 0.0)))
-    return None
 
 
 def _world_list(worlds, limit=8):
@@ -112,127 +231,89 @@ def seek_outcome_text(outcome, want):
             f"{made}")
 
 
-@dataclass(frozen=True)
-class RunSettings:
-    """What a sampling run is besides the scene and the world range; every setting that changes
-    the worlds. Threads are not among them: a world is the same on any thread count."""
-    seed: int = 0
-    duration_s: float = 0.0          # <= 0: the rigid body world's frame range
-    stop_at_rest: bool = True
-    alpha: float = 0.1
-    position_error_m: float = 0.001
-    rotation_error_deg: float = 0.5
+# --- the running child -------------------------------------------------------------------------
 
-
-def sample_command(engine, scene_json, library, settings, first_world, world_count, threads=0):
-    """The argument list of one `mwb-engine sample` run over worlds [first_world, first_world + world_count)
-    with the RunSettings `settings`."""
-    argv = [engine, "sample", "--scene", scene_json, "--out", library, "--seed", str(int(settings.seed)),
-            "--worlds", f"{int(first_world)}:{int(first_world + world_count)}", "--threads", str(int(threads or 0)),
-            "--alpha", repr(float(settings.alpha)), "--position-error", repr(float(settings.position_error_m)),
-            "--rotation-error", repr(float(settings.rotation_error_deg)), "--progress"]
-    if settings.duration_s > 0:
-        argv += ["--duration", repr(float(settings.duration_s))]
-    if not settings.stop_at_rest:
-        argv.append("--no-stop-at-rest")
-    return argv
-
-
-def refine_command(engine, library, world, bodies, time_s, count, threads, first_child=None):
-    """The argument list of one `mwb-engine refine` run: `count` children of `world` branching at
-    `time_s` (snapped down to a recorded frame by the engine), re-simulating the scene body indices
-    `bodies`. The children are appended to `library` itself."""
-    argv = [engine, "refine", "--library", library, "--world", str(int(world)),
-            "--bodies", ",".join(str(int(b)) for b in bodies), "--time", repr(float(time_s)),
-            "--count", str(int(count)), "--threads", str(int(threads)), "--progress"]
-    if first_child is not None:
-        argv += ["--first-child", str(int(first_child))]
-    return argv
-
-
-def change_bodies_command(engine, library, world, add_names, remove_names, scene_json, count, threads,
-                          first_child=None, update_names=()):
-    """The argument list of one `mwb-engine refine --add/--remove/--update` run: `count` children of
-    `world` in which the objects `add_names` (defined in the scene JSON file `scene_json`) exist from
-    0 s, the objects `remove_names` do not, and the objects `update_names` start as `scene_json`
-    defines them now (remove + add); what they touch is simulated anew, every other body replays
-    the parent. The children are appended to `library` itself.
-
-    Raises ValueError for a call that cannot be expressed: nothing to change, adding or updating
-    without a scene, or a name the engine cannot take apart (names are comma-separated on its
-    command line).
-    """
-    add_names, remove_names, update_names = list(add_names), list(remove_names), list(update_names)
-    if not add_names and not remove_names and not update_names:
-        raise ValueError("nothing to add, remove or update")
-    if (add_names or update_names) and not scene_json:
-        raise ValueError("adding or updating objects needs the scene JSON that defines them")
-    for name in add_names + remove_names + update_names:
-        if not name or "," in name:
-            raise ValueError(f"the object name {name!r} cannot be passed to the engine: rename it without commas")
-    argv = [engine, "refine", "--library", library, "--world", str(int(world))]
-    if add_names:
-        argv += ["--add", ",".join(add_names), "--scene", scene_json]
-    if update_names:
-        argv += ["--update", ",".join(update_names)]
-        if not add_names:
-            argv += ["--scene", scene_json]
-    if remove_names:
-        argv += ["--remove", ",".join(remove_names)]
-    argv += ["--count", str(int(count)), "--threads", str(int(threads)), "--progress"]
-    if first_child is not None:
-        argv += ["--first-child", str(int(first_child))]
-    return argv
-
-
-def seek_command(engine, library, goal, want, budget_worlds, budget_s=0.0, seed=None, threads=0, as_json=False):
-    """The argument list of one `mwb-engine seek` run: refine the worlds of `library` (appending to
-    it) until `want` worlds meet the goal file `goal`, within `budget_worlds` new worlds and, when
-    `budget_s` > 0, that many seconds. `seed`: the engine's when None; `as_json`: the summary as
-    one JSON object (SeekOutcome) instead of a line for people."""
-    argv = [engine, "seek", "--library", library, "--goal", goal, "--want", str(int(want)),
-            "--budget-worlds", str(int(budget_worlds)), "--threads", str(int(threads or 0)), "--progress"]
-    if budget_s and budget_s > 0:
-        argv += ["--budget-s", repr(float(budget_s))]
-    if seed is not None:
-        argv += ["--seed", str(int(seed))]
-    if as_json:
-        argv.append("--json")
-    return argv
+@dataclass
+class _RunState:
+    done: int = 0
+    total: int = 0
+    last_world: int = -1
+    seek: Optional[SeekProgress] = None
+    started: Optional[dict] = None
+    summary: Optional[dict] = None
+    error: Optional[EngineFailure] = None
+    warnings: list = field(default_factory=list)
+    worlds_rejected: int = 0
+    log: list = field(default_factory=list)
 
 
 class EngineRun:
-    """One running `mwb-engine` child. Thread-safe to poll from the UI thread."""
+    """One running `mwb-engine` child started from a request. Thread-safe to poll from the UI
+    thread. `engine`: the executable (the add-on's own when None)."""
 
-    def __init__(self, argv):
-        self.argv = list(argv)
+    def __init__(self, request, engine=None):
+        self.request = request
+        self.argv = [engine or paths.engine_path()] + request.arguments() + ["--events"]
         self._lock = threading.Lock()
-        self._done = 0
-        self._total = 0
-        self._last_world = -1
-        self._seek = None
-        self._messages = []
-        self._stdout = ""
+        self._state = _RunState()
         self.cancel_requested = False
-        self._process = subprocess.Popen(self.argv, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                                         stderr=subprocess.PIPE, text=True, bufsize=1)
-        self._reader = threading.Thread(target=self._read, name="mwb-engine-reader", daemon=True)
-        self._reader.start()
+        # Binary pipes, decoded per line: an event is UTF-8 whatever the platform's locale.
+        self._process = subprocess.Popen(self.argv, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                                         stderr=subprocess.PIPE)
+        self._readers = [threading.Thread(target=self._read_events, name="mwb-engine-events", daemon=True),
+                         threading.Thread(target=self._read_log, name="mwb-engine-log", daemon=True)]
+        for reader in self._readers:
+            reader.start()
 
-    def _read(self):
-        for line in self._process.stderr:
-            progress = parse_progress(line)
-            seek = parse_seek_progress(line)
+    # One reader per event the protocol has; a test holds this table to PROTOCOL.EVENTS.
+    def _on_start(self, state, event):
+        state.started = event
+
+    def _on_progress(self, state, event):
+        state.done, state.total = int(event["done"]), int(event["total"])
+        if "seek" in event:
+            s = event["seek"]
+            state.seek = SeekProgress(int(s["boxes_met"]), int(s["box_count"]), int(s["worlds_made"]),
+                                      int(s["best_world"]), int(s["worlds_meeting_goal"]))
+
+    def _on_world(self, state, event):
+        state.last_world = int(event["index"])
+        if not event["stored"]:
+            state.worlds_rejected += 1
+
+    def _on_warning(self, state, event):
+        state.warnings.append(str(event["message"]))
+
+    def _on_error(self, state, event):
+        state.error = EngineFailure(str(event["code"]), str(event["message"]),
+                                    tuple(str(p) for p in event.get("problems", ())))
+
+    def _on_summary(self, state, event):
+        state.summary = {k: v for k, v in event.items() if k != "event"}
+
+    EVENT_READERS = {"start": _on_start, "progress": _on_progress, "world": _on_world,
+                     "warning": _on_warning, "error": _on_error, "summary": _on_summary}
+
+    def _read_events(self):
+        for raw in self._process.stdout:
+            try:
+                event = json.loads(raw.decode("utf-8", "replace"))
+                reader = self.EVENT_READERS[event["event"]]
+            except (ValueError, KeyError, TypeError):
+                # Not an event of this protocol: kept for the log, never interpreted.
+                with self._lock:
+                    self._state.log.append(raw.decode("utf-8", "replace").rstrip("\n"))
+                continue
             with self._lock:
-                if progress:
-                    self._done, self._total, self._last_world = progress
-                elif seek:
-                    self._seek = seek
-                elif line.strip():
-                    self._messages.append(line.rstrip("\n"))
-        out = self._process.stdout.read()
-        with self._lock:
-            self._stdout = out
+                reader(self, self._state, event)
+
+    def _read_log(self):
+        # Whatever the engine or ODE print for people; shown with a failure, never interpreted.
+        for raw in self._process.stderr:
+            line = raw.decode("utf-8", "replace").rstrip("\n")
+            if line.strip():
+                with self._lock:
+                    self._state.log.append(line)
 
     @property
     def pid(self):
@@ -241,54 +322,80 @@ class EngineRun:
     def progress(self):
         """(worlds finished, worlds to do, index of the last finished world or -1)."""
         with self._lock:
-            return self._done, self._total, self._last_world
+            return self._state.done, self._state.total, self._state.last_world
 
     def seek_progress(self):
         """The last SeekProgress of a seek run, or None before its first batch."""
         with self._lock:
-            return self._seek
+            return self._state.seek
 
     def finished(self):
         """True once the child exited and its output was read."""
-        return self._process.poll() is not None and not self._reader.is_alive()
+        return self._process.poll() is not None and not any(r.is_alive() for r in self._readers)
 
     def returncode(self):
         return self._process.poll()
 
-    def messages(self):
-        """stderr lines other than progress (errors, repairs)."""
+    def warnings(self):
+        """The warning events' messages (a repaired library, another engine build)."""
         with self._lock:
-            return list(self._messages)
+            return list(self._state.warnings)
+
+    def log(self):
+        """Lines the engine printed besides its events (stderr); for a person, never parsed."""
+        with self._lock:
+            return list(self._state.log)
 
     def summary(self):
+        """The summary event's fields (its `text` is what a person reads), or None before it."""
         with self._lock:
-            return self._stdout.strip()
+            return dict(self._state.summary) if self._state.summary is not None else None
 
     def failure(self):
-        """None for a clean run or a cancel (which keeps finished worlds); otherwise the first error line."""
+        """None for a clean run or a cancel (which keeps finished worlds); otherwise an
+        EngineFailure."""
         code = self.returncode()
-        if code in (None, 0) or (code == 130 and self.cancel_requested):
+        if code is None or code == int(EngineExit.OK) or (code == int(EngineExit.CANCELLED) and self.cancel_requested):
             return None
-        lines = [m for m in self.messages() if m.strip()]
-        # Said in the user's words: what went wrong, not which program noticed.
-        text = lines[0].replace("mwb-engine: ", "", 1) if lines else f"mwb-engine exited with code {code}"
-        # "mwb-engine: invalid scene:" is a heading; the problem is on the next line.
-        if text.endswith(":") and len(lines) > 1:
-            text = f"{text} {lines[1].strip()}"
-        return text
+        with self._lock:
+            if self._state.error is not None:
+                return self._state.error
+            last = self._state.log[-1] if self._state.log else ""
+        return EngineFailure("crashed", f"the engine stopped unexpectedly (exit code {code})"
+                             + (f": {last}" if last else ""))
 
     def cancel(self):
-        """Ask the engine to stop: it finishes writing the current record and exits with 130."""
+        """Ask the engine to stop: it finishes writing the current record and exits with
+        EngineExit.CANCELLED. Said on its stdin, as on every OS."""
         if self._process.poll() is None:
             self.cancel_requested = True
-            self._process.send_signal(signal.SIGINT)
+            try:
+                self._process.stdin.write(b"cancel\n")
+                self._process.stdin.flush()
+            except (BrokenPipeError, OSError, ValueError):
+                pass  # it is ending already
 
     def wait(self, timeout=None):
         self._process.wait(timeout)
-        self._reader.join(timeout)
+        for reader in self._readers:
+            reader.join(timeout)
+        self._close_stdin()
         return self._process.returncode
+
+    def _close_stdin(self):
+        try:
+            self._process.stdin.close()
+        except (BrokenPipeError, OSError):
+            pass
 
     def kill(self):
         if self._process.poll() is None:
             self._process.kill()
         self.wait(10)
+
+
+def run_to_end(request, engine=None):
+    """Run a short command (info) to its end. Returns the finished EngineRun."""
+    run = EngineRun(request, engine)
+    run.wait()
+    return run

@@ -98,10 +98,10 @@ def _start(scene, world, add_names, remove_names, scene_json, label, status, upd
     settings = scene.mwb
     view = SESSION.view
     try:
-        argv = engine_process.change_bodies_command(paths.engine_path(), view.path, world, add_names, remove_names,
-                                                    scene_json, settings.refine_count, settings.threads,
-                                                    update_names=update_names)
-        start_run(scene, argv, view.path, label, status)
+        request = engine_process.ChangeRequest(view.path, world, add=add_names, remove=remove_names,
+                                               update=update_names, scene_json=scene_json,
+                                               count=settings.refine_count, threads=settings.threads)
+        start_run(scene, request, view.path, label, status)
     except (ValueError, OSError) as error:
         return str(error)
     return ""

@@ -11,7 +11,6 @@ from bpy.props import FloatVectorProperty, IntProperty, IntVectorProperty
 
 from .. import scene_boxes
 from ..core import engine as engine_process
-from ..core import paths
 from ..core.library_query import normalized_rect
 from ..core.session import SESSION
 from ..draw import boxes as box_overlay
@@ -53,10 +52,10 @@ def start_refining(scene, world, body_names, time_s):
     """Start the engine child refining `world` at `time_s`; its children stream in through the poller."""
     settings = scene.mwb
     view = SESSION.view
-    argv = engine_process.refine_command(paths.engine_path(), view.path, world,
-                                         view.present_bodies(world, scene_boxes.body_indices(body_names, view)), time_s,
-                                         settings.refine_count, settings.threads)
-    sampling.start_run(scene, argv, view.path, "Refining",
+    request = engine_process.RefineRequest(
+        view.path, world, tuple(view.present_bodies(world, scene_boxes.body_indices(body_names, view))), time_s,
+        settings.refine_count, settings.threads)
+    sampling.start_run(scene, request, view.path, "Refining",
                        f"Refining {', '.join(body_names)} in world {world} from {time_s:.2f} s "
                        f"into {settings.refine_count} worlds")
 

@@ -1,9 +1,9 @@
 """Sample Worlds: export the scene, run mwb-engine as a child process, stream worlds in as they land.
 
 The engine writes each world to the library as it finishes; a `bpy.app.timers` poller reads its
-progress lines and polls the library, so paths appear in the viewport while the UI stays live.
-Cancel (button or Esc) sends SIGINT: the engine finishes the record it is writing and exits, and
-every finished world stays in the file. Sampling again appends the next range of worlds.
+progress events and polls the library, so paths appear in the viewport while the UI stays live.
+Cancel (button or Esc) asks the engine to stop: it finishes the record it is writing and exits,
+and every finished world stays in the file. Sampling again appends the next range of worlds.
 """
 import os
 import sys
@@ -12,6 +12,7 @@ import bpy
 
 from .. import export, preview, props, scene_boxes, runs
 from ..core import engine as engine_process
+from ..core import paths
 from ..core.session import SESSION
 from . import browsing
 
@@ -80,7 +81,8 @@ def start_sampling(context, finish_interrupted=True):
         (next_world_index(SESSION.view), settings.world_count)
     known = [bpy.path.abspath(item.path) for item in settings.libraries]
     try:
-        argv, chosen, first, warnings = runs.sample_into_matching_library(context, library, known, first, count)
+        engine = paths.engine_path()
+        request, chosen, first, warnings = runs.sample_into_matching_library(context, library, known, first, count)
     except runs.RunSetupError as error:
         SESSION.export_warnings = list(error.problems)
         return False, str(error), error.problems
@@ -99,12 +101,13 @@ def start_sampling(context, finish_interrupted=True):
     settings["library_index"] = list(settings.libraries).index(item)
     end = first + count
     SESSION.sampling_range = (first, end)
-    start_run(scene, argv, chosen, "Sampling", f"Sampling worlds {first} to {end - 1}{note}", note)
+    start_run(scene, request, chosen, "Sampling", f"Sampling worlds {first} to {end - 1}{note}", note, engine=engine)
     return True, SESSION.status, warnings
 
 
-def start_run(scene, argv, library, label, status, note="", follower=None):
-    """Start the engine child `argv` writing `library`; the poller streams its worlds into the view.
+def start_run(scene, request, library, label, status, note="", follower=None, engine=None):
+    """Start the engine on `request` (core.engine) writing `library`; the poller streams its worlds
+    into the view. Raises FileNotFoundError when there is no engine.
 
     label: what the run does ("Sampling", "Refining", "Adding", "Removing", "Updating", "Seeking"),
     for the panel and the end of run message; status: the panel's line until the first progress
@@ -112,9 +115,10 @@ def start_run(scene, argv, library, label, status, note="", follower=None):
     more than worlds done, an object whose `follow(scene, run)` (each poll while it runs) and
     `ended(scene, run, stored)` (once it ended, unless it failed) return the panel's line.
     """
+    run = engine_process.EngineRun(request, engine)
     SESSION.run_note = note
     SESSION.run_follower = follower
-    SESSION.engine = engine_process.EngineRun(argv)
+    SESSION.engine = run
     SESSION.sampling_scene = scene.name
     SESSION.sampling_library = library
     SESSION.run_label = label
@@ -158,10 +162,11 @@ def poll_sampling():
                           else f"{SESSION.run_label}: {done} / {total} worlds")
         _set_status_text(f"Many Worlds: {SESSION.status} (Esc to cancel)")
         return POLL_INTERVAL_S
-    failure = run.failure()
+    failed = run.failure()
     stored = len(SESSION.view.world_indices) if SESSION.view else 0
-    if failure:
-        if "holds another run" in failure:
+    if failed:
+        failure = failed.message
+        if failed.code == engine_process.OTHER_RUN:
             failure += (" - the scene or settings changed since this library was sampled; set another "
                         "library path (or remove the file) to start a new library")
         SESSION.last_error = failure

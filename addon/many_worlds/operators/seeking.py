@@ -60,7 +60,7 @@ class SeekFollower:
         return f"Seeking: {engine_process.seek_progress_text(self.shown)}"
 
     def ended(self, scene, run, stored):
-        outcome = engine_process.parse_seek_outcome(run.summary())
+        outcome = engine_process.SeekOutcome.from_summary(run.summary())
         progress = run.seek_progress()
         if outcome is not None:
             self._select(scene, outcome.best)
@@ -84,18 +84,16 @@ def start_seek(context):
         return False, problem
     view = SESSION.view
     specs = scene_boxes.enabled_specs(scene, view)
+    noun = "world" if settings.seek_want == 1 else "worlds"
     try:
         goal_path = core_goal.write_goal(paths.goal_json_path(view.path), specs)
-        engine = paths.engine_path()
+        request = engine_process.SeekRequest(view.path, goal_path, settings.seek_want, settings.seek_budget_worlds,
+                                             settings.seek_budget_s, threads=settings.threads)
+        start_run(scene, request, view.path, "Seeking",
+                  f"Seeking {settings.seek_want} {noun} meeting {len(specs)} boxes in {os.path.basename(view.path)}",
+                  follower=SeekFollower(settings.seek_want, len(specs)))
     except (ValueError, OSError) as error:
         return False, str(error)
-    argv = engine_process.seek_command(engine, view.path, goal_path, settings.seek_want,
-                                       settings.seek_budget_worlds, settings.seek_budget_s,
-                                       threads=settings.threads, as_json=True)
-    noun = "world" if settings.seek_want == 1 else "worlds"
-    start_run(scene, argv, view.path, "Seeking",
-              f"Seeking {settings.seek_want} {noun} meeting {len(specs)} boxes in {os.path.basename(view.path)}",
-              follower=SeekFollower(settings.seek_want, len(specs)))
     return True, SESSION.status
 
 

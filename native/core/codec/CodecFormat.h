@@ -35,9 +35,16 @@
 namespace mwb {
 
 /// Error bounds of the motion codec. A decoded frame is never further than these from the input.
+/// The rotation bound as a person sets it, in degrees (CodecBounds keeps radians).
+constexpr double kDefaultRotationErrorDeg = 0.5;
+
+/// Degrees to the radians of a rotation bound; the one conversion, so that the same setting
+/// gives the same run hash whichever front end passed it.
+constexpr double rotation_bound_rad(double degrees) { return degrees * 3.14159265358979323846 / 180; }
+
 struct CodecBounds {
     double position_error_max_m = 0.001;  ///< Euclidean distance, metres
-    double rotation_error_max_rad = 0.5 * 3.14159265358979323846 / 180;  ///< relative rotation angle
+    double rotation_error_max_rad = rotation_bound_rad(kDefaultRotationErrorDeg);  ///< relative rotation angle
 };
 
 /// Integer steps of one segment, per axis.

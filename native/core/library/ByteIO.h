@@ -16,6 +16,11 @@ struct LibraryError : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
 
+/// Sampling into a library that holds another run (another scene, settings or base seed).
+struct OtherRunError : LibraryError {
+    using LibraryError::LibraryError;
+};
+
 class ByteWriter {
 public:
     template <typename T>

@@ -38,6 +38,28 @@ std::string warning_from(const std::string& where, Read&& read) {
     return "";
 }
 
+// The file's magic, format version and run header (its length, JSON text and checksum);
+// `end` is the offset after them, where the records begin.
+RunHeader parse_run_header_block(const std::vector<uint8_t>& bytes, const std::string& path, size_t& end) {
+    if (bytes.size() < sizeof kLibraryMagic || std::memcmp(bytes.data(), kLibraryMagic, sizeof kLibraryMagic) != 0)
+        throw LibraryError(path + ": not a Many-Worlds library file (bad magic at byte 0)");
+    ByteReader in(bytes.data(), bytes.size(), path);
+    in.get<uint64_t>();
+    const auto version = in.get<uint32_t>();
+    if (version != kLibraryFormatVersion)
+        throw LibraryError(path + ": library format version " + std::to_string(version) +
+                           " is not supported (this build reads version " + std::to_string(kLibraryFormatVersion) + ")");
+    const auto size = in.get<uint32_t>();
+    if (size > kMaxHeaderBytes || size + 4 > in.remaining())
+        throw LibraryError(path + ", byte 12: run header is truncated");
+    const uint8_t* text = bytes.data() + in.offset();
+    uint32_t crc;
+    std::memcpy(&crc, text + size, 4);
+    if (crc32_of(text, size) != crc) throw LibraryError(path + ", byte 16: run header checksum mismatch");
+    end = in.offset() + size + 4;
+    return run_header_from_json(std::string(reinterpret_cast<const char*>(text), size), path);
+}
+
 }  // namespace
 
 // A world record as far as it was read on its own: no world if its payload did not decode; an
@@ -61,6 +83,18 @@ void LibraryReader::load(const std::vector<uint8_t>& bytes) {
     parse_records(bytes.data() + offset_, bytes.size() - offset_, offset_, true);
 }
 
+RunHeader read_run_header(const std::string& path) {
+    constexpr size_t kLeadBytes = sizeof kLibraryMagic + 8;  // magic, format version, header length
+    std::vector<uint8_t> bytes = read_file_prefix(path, kLeadBytes);
+    if (bytes.size() == kLeadBytes) {
+        uint32_t size;
+        std::memcpy(&size, bytes.data() + kLeadBytes - 4, 4);
+        if (size <= kMaxHeaderBytes) bytes = read_file_prefix(path, kLeadBytes + size + 4);
+    }
+    size_t end = 0;
+    return parse_run_header_block(bytes, path, end);
+}
+
 uint64_t LibraryReader::next_world_index() const {
     uint64_t next = 0;
     for (const StoredWorld& w : worlds_) next = std::max(next, w.world_index + 1);
@@ -69,22 +103,8 @@ uint64_t LibraryReader::next_world_index() const {
 }
 
 void LibraryReader::read_header(const std::vector<uint8_t>& bytes) {
-    if (bytes.size() < sizeof kLibraryMagic || std::memcmp(bytes.data(), kLibraryMagic, sizeof kLibraryMagic) != 0)
-        throw LibraryError(path_ + ": not a Many-Worlds library file (bad magic at byte 0)");
-    ByteReader in(bytes.data(), bytes.size(), path_);
-    in.get<uint64_t>();
-    const auto version = in.get<uint32_t>();
-    if (version != kLibraryFormatVersion)
-        throw LibraryError(path_ + ": library format version " + std::to_string(version) +
-                           " is not supported (this build reads version " + std::to_string(kLibraryFormatVersion) + ")");
-    const auto size = in.get<uint32_t>();
-    if (size > kMaxHeaderBytes || size + 4 > in.remaining())
-        throw LibraryError(path_ + ", byte 12: run header is truncated");
-    const uint8_t* text = bytes.data() + in.offset();
-    uint32_t crc;
-    std::memcpy(&crc, text + size, 4);
-    if (crc32_of(text, size) != crc) throw LibraryError(path_ + ", byte 16: run header checksum mismatch");
-    header_ = run_header_from_json(std::string(reinterpret_cast<const char*>(text), size), path_);
+    size_t header_end = 0;
+    header_ = parse_run_header_block(bytes, path_, header_end);
     scene_json_ = header_.scene_json;
     try {
         const nlohmann::json scene = nlohmann::json::parse(scene_json_);
@@ -103,7 +123,7 @@ void LibraryReader::read_header(const std::vector<uint8_t>& bytes) {
     } catch (const nlohmann::json::exception& error) {
         throw LibraryError(path_ + ", byte 16: the run header's scene has no readable body list (" + error.what() + ")");
     }
-    offset_ = in.offset() + size + 4;
+    offset_ = header_end;
 }
 
 void LibraryReader::parse_records(const uint8_t* bytes, size_t size, uint64_t base_offset, bool at_open) {

@@ -28,6 +28,10 @@ struct ReaderOptions {
     double polyline_hz = 0;
 };
 
+/// The run header of the library at `path`, read without its records. Throws LibraryError as
+/// LibraryReader does for a file that is not a library or whose header is damaged.
+RunHeader read_run_header(const std::string& path);
+
 class LibraryReader {
 public:
     /// Opens `path` and reads everything intact. Throws LibraryError (path and offset in the

@@ -91,13 +91,16 @@ std::vector<uint8_t> file_prologue(const RunHeader& header) {
 }  // namespace
 
 LibraryWriter::LibraryWriter(const std::string& path, const RunHeader& header)
-    : path_(path), header_(header), gravity_(scene_from_json(header.scene_json).world.gravity) {
+    : LibraryWriter(path, header, scene_from_json(header.scene_json).world.gravity) {}
+
+LibraryWriter::LibraryWriter(const std::string& path, const RunHeader& header, const Vec3& gravity)
+    : path_(path), header_(header), gravity_(gravity) {
     const bool exists = holds_bytes(path);
     uint64_t intact_end = 0;
     if (exists) {
         LibraryReader existing(path);
         if (run_hash(existing.header()) != run_hash(header))
-            throw LibraryError(path + ": holds another run (different scene, parameters, codec bounds or base seed; run " +
+            throw OtherRunError(path + ": holds another run (different scene, parameters, codec bounds or base seed; run " +
                                run_hash(existing.header()) + ", expected " + run_hash(header) + ")");
         header_.engine_build = existing.header().engine_build;
         for (const StoredWorld& w : existing.worlds()) existing_.push_back(w.world_index);

@@ -16,6 +16,9 @@ public:
     /// it holds the same run (its run hash) and cutting off a torn last record left by a crash.
     /// Throws LibraryError with the path and reason otherwise.
     LibraryWriter(const std::string& path, const RunHeader& header);
+    /// The same, for a caller that has the header's scene already: `gravity` is its gravity
+    /// (the writer needs nothing else of it, and the scene JSON is not parsed again).
+    LibraryWriter(const std::string& path, const RunHeader& header, const Vec3& gravity);
     ~LibraryWriter();
     LibraryWriter(const LibraryWriter&) = delete;
     LibraryWriter& operator=(const LibraryWriter&) = delete;

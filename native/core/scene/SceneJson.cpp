@@ -1,5 +1,6 @@
 #include "scene/SceneJson.h"
 
+#include <atomic>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -557,7 +558,14 @@ OutJson world_json(const WorldSettings& w) {
 
 }  // namespace
 
+namespace {
+std::atomic<uint64_t> g_scene_parses{0};
+}  // namespace
+
+uint64_t scene_parses_in_this_process() { return g_scene_parses.load(); }
+
 Scene scene_from_json(const std::string& json_text) {
+    ++g_scene_parses;
     Json document;
     try {
         document = Json::parse(json_text);

@@ -26,6 +26,9 @@ struct SceneError : std::runtime_error {
 /// Parses and validates (validate_scene) a scene. Throws SceneError listing every problem found;
 /// malformed JSON gives the parser's line and column; another format or a newer version is refused.
 Scene scene_from_json(const std::string& json_text);
+/// How many times this process has parsed a scene (scene_from_json, load_scene_file): a run
+/// reports it, so a test can hold the engine to one parse per process.
+uint64_t scene_parses_in_this_process();
 /// Serializes a scene as compact JSON; scene_from_json(scene_to_json(s)) reproduces s exactly
 /// (doubles round-trip bit for bit), except shape fields unused by the shape's type, which are not
 /// written and read back as defaults. Throws SceneError for strings that are not valid UTF-8.

@@ -1,0 +1,86 @@
+#include "EngineEvents.h"
+
+#include <iostream>
+#include <thread>
+
+#include "common/BuildInfo.h"
+
+namespace mwb {
+
+EngineEvents::EngineEvents(bool as_json, bool show_progress) : as_json_(as_json), show_progress_(show_progress) {}
+
+void EngineEvents::write(const char* event, nlohmann::json fields) {
+    fields["event"] = event;
+    // One line per event, whole: a reader takes a line at a time.
+    const std::string line = fields.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::cout << line;
+    std::cout.flush();
+}
+
+void EngineEvents::start(const std::string& command) {
+    if (as_json_) write("start", {{"protocol", kEngineProtocolVersion}, {"command", command}, {"engine_build", engine_build()}});
+}
+
+void EngineEvents::progress(uint64_t done, uint64_t total, const nlohmann::json& extra, const std::string& text) {
+    if (as_json_) {
+        nlohmann::json fields = extra.is_object() ? extra : nlohmann::json::object();
+        fields["done"] = done;
+        fields["total"] = total;
+        write("progress", std::move(fields));
+    } else if (show_progress_) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        std::cerr << "mwb-engine: " << text << "\n";
+        std::cerr.flush();
+    }
+}
+
+void EngineEvents::world(uint64_t index, bool stored, const std::string& reason) {
+    if (as_json_) write("world", {{"index", index}, {"stored", stored}, {"reason", reason}});
+}
+
+void EngineEvents::warning(EngineWarningCode code, const std::string& message) {
+    if (as_json_) {
+        write("warning", {{"code", engine_warning_code_name(code)}, {"message", message}});
+    } else {
+        std::lock_guard<std::mutex> lock(mutex_);
+        std::cerr << "mwb-engine: warning: " << message << "\n";
+    }
+}
+
+void EngineEvents::error(EngineErrorCode code, const std::string& message, const std::vector<std::string>& problems,
+                         const std::string& heading) {
+    if (as_json_) {
+        write("error", {{"code", engine_error_code_name(code)}, {"message", message}, {"problems", problems}});
+        return;
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!heading.empty()) {
+        std::cerr << "mwb-engine: " << heading << "\n";
+        for (const std::string& p : problems) std::cerr << p << "\n";
+    } else {
+        std::cerr << "mwb-engine: " << message << "\n";
+    }
+}
+
+void EngineEvents::summary(nlohmann::json fields, const std::string& text) {
+    if (as_json_) {
+        fields["text"] = text;
+        write("summary", std::move(fields));
+    } else {
+        std::lock_guard<std::mutex> lock(mutex_);
+        std::cout << text;
+        if (!text.empty() && text.back() != '\n') std::cout << "\n";
+        std::cout.flush();
+    }
+}
+
+void listen_for_cancel_on_stdin(std::atomic<bool>& cancel) {
+    std::thread([&cancel] {
+        std::string line;
+        while (std::getline(std::cin, line))
+            if (line == "cancel" || line == "cancel\r") cancel.store(true);
+    }).detach();
+}
+
+}  // namespace mwb
