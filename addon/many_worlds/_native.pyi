@@ -10,12 +10,24 @@ class LibraryError(IOError): ...
 class CodecError(ValueError): ...
 class RefineError(ValueError): ...
 
+class BodyRole:
+    """What the simulation does with a body."""
+    SIMULATED: "BodyRole"
+    ANIMATED: "BodyRole"
+    STATIC: "BodyRole"
+    DISABLED: "BodyRole"
+    name: str
+    value: int
+
+def body_role(passive: bool, enabled: bool, animated_throughout: bool) -> BodyRole: ...
+
 class Scene:
     """A rigid-body scene in Blender's units (metres, kg, s, Z up)."""
     name: str
     body_names: List[str]
     body_objects: List[str]  # per body: the object it stands for
-    body_roles: List[str]    # per body: 'simulated', 'animated', 'static' or 'disabled'
+    body_roles: List[BodyRole]
+    simulated_bodies: List[int]  # indices of the BodyRole.SIMULATED bodies
     constraint_names: List[str]
     frame_start: int
     fps: float

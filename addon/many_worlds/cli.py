@@ -122,7 +122,7 @@ def check_library_matches_scene(library, path):
                        f"{bpy.data.filepath or 'this file'}")
 
 
-def body_indices(library, objects_text, default="simulated"):
+def body_indices(library, objects_text):
     names = library_body_names(library)
     if objects_text:
         wanted = [n.strip() for n in objects_text.split(",") if n.strip()]
@@ -130,7 +130,7 @@ def body_indices(library, objects_text, default="simulated"):
         if unknown:
             raise CliError(f"unknown object {unknown[0]!r} (the library has: {', '.join(names)})")
         return [i for i, name in enumerate(names) if name in wanted]
-    return [i for i, role in enumerate(library_scene(library).body_roles) if role == "simulated"]
+    return list(library_scene(library).simulated_bodies)
 
 
 # --- sample ---------------------------------------------------------------------------------

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 from mathutils import Matrix
 
-from . import compat
+from . import _native, compat
 from .props import upgrade_saved_variation
 
 SCENE_FORMAT = "mwb-scene"
@@ -225,11 +225,13 @@ class SceneExporter:
         rbo = ob.rigid_body
         prebake = _prebake_matrix(ob)
         initial, scale = _transform(prebake if prebake is not None else ob.matrix_world)
-        simulated = rbo.type == "ACTIVE" and (not kinematic or animated_until_s is not None)
+        animated_throughout = kinematic and animated_until_s is None
+        simulated = _native.body_role(rbo.type == "PASSIVE", bool(rbo.enabled),
+                                      animated_throughout) == _native.BodyRole.SIMULATED
         shape = self.shape(ob, rbo, scale, simulated)
         if shape is None:
             return None
-        body = {"name": ob.name, "type": rbo.type, "kinematic": kinematic and animated_until_s is None,
+        body = {"name": ob.name, "type": rbo.type, "kinematic": animated_throughout,
                 "enabled": bool(rbo.enabled),
                 "shape": shape, "mass_kg": float(rbo.mass), "friction": float(rbo.friction),
                 "restitution": float(rbo.restitution), "use_margin": bool(rbo.use_margin),
@@ -262,7 +264,8 @@ class SceneExporter:
             shape = body["shape"]
             round_shape = shape["type"] == "CYLINDER" or (shape["type"] == "CONVEX_HULL" and
                                                           len(shape["vertices_m"]) > 3 * 8)
-            if body["type"] != "ACTIVE" or body["kinematic"] or not round_shape:
+            role = _native.body_role(body["type"] == "PASSIVE", body["enabled"], body["kinematic"])
+            if role != _native.BodyRole.SIMULATED or not round_shape:
                 continue
             touching = [m["name"] for m in meshes if m["collision_collections"] & body["collision_collections"]]
             if touching:
@@ -374,6 +377,30 @@ class SceneExporter:
                 tracks[ob.name]["transforms"].append(transform)
         return tracks
 
+    def body_objects(self):
+        """The objects that become bodies, by name: every rigid body of the world's collection but
+        the children of a compound (part of its shape)."""
+        members = set(self.rbw.collection.objects)
+        objects = [ob for ob in members if ob.rigid_body is not None and not (
+            ob.parent is not None and ob.parent.rigid_body is not None
+            and ob.parent.rigid_body.collision_shape == "COMPOUND" and ob.parent in members)]
+        return sorted(objects, key=lambda ob: ob.name)
+
+    def simulated_names(self):
+        """Names of the bodies the engine will move, by its own rule (BodyRole), read from the
+        settings without exporting any shape."""
+        if self.rbw is None or self.rbw.collection is None:
+            return []
+        world = self.world()
+        names = []
+        for ob in self.body_objects():
+            animated, until = self.animated_span(ob, world["frame_start"], world["frame_end"], world["fps"])
+            role = _native.body_role(ob.rigid_body.type == "PASSIVE", bool(ob.rigid_body.enabled),
+                                     animated and until is None)
+            if role == _native.BodyRole.SIMULATED:
+                names.append(ob.name)
+        return names
+
     def export(self):
         if self.rbw is None or self.rbw.collection is None:
             self.report(self.scene.name, "rigid body world", "the scene has no rigid body world or its collection "
@@ -381,12 +408,7 @@ class SceneExporter:
             return ExportResult(None, self.problems)
         world = self.world()
         frame_start, frame_end, fps = world["frame_start"], world["frame_end"], world["fps"]
-        objects = [ob for ob in self.rbw.collection.objects if ob.rigid_body is not None]
-        # Children of a compound are part of its shape, not bodies of their own.
-        objects = [ob for ob in objects if not (ob.parent is not None and ob.parent.rigid_body is not None
-                                                and ob.parent.rigid_body.collision_shape == "COMPOUND"
-                                                and ob.parent in set(self.rbw.collection.objects))]
-        objects.sort(key=lambda ob: ob.name)
+        objects = self.body_objects()
         frame_was, subframe_was = self.scene.frame_current, self.scene.frame_subframe
         try:
             spans = {ob.name: self.animated_span(ob, frame_start, frame_end, fps) for ob in objects}
@@ -413,6 +435,11 @@ class SceneExporter:
 def export_scene(scene, depsgraph=None):
     """Export a Blender scene; returns ExportResult(scene dict or None, problems)."""
     return SceneExporter(scene, depsgraph).export()
+
+
+def simulated_object_names(scene):
+    """The rigid bodies of `scene` the engine would move, before any library exists."""
+    return SceneExporter(scene).simulated_names()
 
 
 def export_and_validate(context):

@@ -6,7 +6,10 @@ import bpy
 from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty, FloatVectorProperty,
                        IntProperty, IntVectorProperty, PointerProperty, StringProperty)
 
-from . import compat
+from . import _native, compat
+
+# The run settings' defaults are the engine's (library/RunSettings.h), not copies of them.
+_RUN_DEFAULTS = _native.RunSettings()
 
 
 def _vector(name, subtype, description, unit="NONE"):
@@ -229,7 +232,6 @@ class MWB_QueryBox(bpy.types.PropertyGroup):
 def _rank_metric_items():
     # The module's catalog, in its order: a saved choice is stored by its position, and the box
     # count (once "constraints_satisfied", now "boxes_met") keeps its place at the end.
-    from . import _native
     return [(m.name, m.label, f"{m.help} ({m.unit})") for m in _native.ranking_metrics()]
 
 
@@ -243,16 +245,20 @@ class MWB_SceneSettings(bpy.types.PropertyGroup):
         description="Library file (.mwb) the worlds are written to; empty: <blend name>.mwb next to the .blend")
     world_count: IntProperty(name="Worlds", default=100, min=1, soft_max=10000,
                              description="Worlds to add per press of Sample")
-    seed: IntProperty(name="Seed", default=0, min=0, description="Base seed: a world is a function of seed and index")
-    stop_at_rest: BoolProperty(name="Until Rest", default=True,
+    seed: IntProperty(name="Seed", default=_RUN_DEFAULTS.seed, min=0,
+                      description="Base seed: a world is a function of seed and index")
+    stop_at_rest: BoolProperty(name="Until Rest", default=_RUN_DEFAULTS.stop_at_rest,
                                description="End a world when every body has rested for a while")
-    duration_s: FloatProperty(name="Duration", default=0.0, min=0.0, unit="TIME_ABSOLUTE",
+    duration_s: FloatProperty(name="Duration", default=max(0.0, _RUN_DEFAULTS.duration_s), min=0.0,
+                              unit="TIME_ABSOLUTE",
                               description="Simulated seconds per world; 0: the rigid body world's frame range")
-    alpha: FloatProperty(name="Perturbation", default=0.1, min=0.0, max=0.4,
+    alpha: FloatProperty(name="Perturbation", default=_RUN_DEFAULTS.alpha, min=0.0, max=0.4,
                          description="Strength of the random change at each impact (alpha, fraction of |dv|)")
-    position_error_mm: FloatProperty(name="Position Error", default=1.0, min=0.01, soft_max=10.0,
+    position_error_mm: FloatProperty(name="Position Error", default=_RUN_DEFAULTS.position_error_m * 1000.0,
+                                     min=0.01, soft_max=10.0,
                                      description="Largest stored position error, millimetres")
-    rotation_error_deg: FloatProperty(name="Rotation Error", default=0.5, min=0.01, soft_max=5.0,
+    rotation_error_deg: FloatProperty(name="Rotation Error", default=_RUN_DEFAULTS.rotation_error_deg,
+                                      min=0.01, soft_max=5.0,
                                       description="Largest stored rotation error, degrees")
     threads: IntProperty(name="Threads", default=0, min=0, description="Engine threads; 0: all cores")
     libraries: CollectionProperty(type=MWB_LibraryItem)

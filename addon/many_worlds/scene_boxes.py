@@ -10,6 +10,7 @@ import traceback
 import bpy
 import numpy as np
 
+from . import export
 from .core import library_query as core_query
 from .core.session import SESSION
 
@@ -89,11 +90,8 @@ def simulated_body_names(scene):
     if view is not None:
         # An object updated after sampling has a body per definition: name it once.
         return list(dict.fromkeys(view.body_names[i] for i in view.simulated_bodies()))
-    rbw = scene.rigidbody_world
-    objects = rbw.collection.objects if rbw is not None and rbw.collection is not None else []
-    # No library yet: Blender's own settings, read as the engine's body_role reads them.
-    return [ob.name for ob in objects if ob.rigid_body is not None and ob.rigid_body.type == "ACTIVE"
-            and ob.rigid_body.enabled and not ob.rigid_body.kinematic]
+    # No library yet: the objects as they would be exported, by the engine's own rule.
+    return export.simulated_object_names(scene)
 
 
 def body_choice(context, names=None):

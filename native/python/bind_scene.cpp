@@ -13,6 +13,24 @@ namespace mwb::python {
 void bind_scene(py::module_& m) {
     py::register_exception<SceneError>(m, "SceneError", PyExc_ValueError);
 
+    py::enum_<BodyRole>(m, "BodyRole", "What the simulation does with a body (scene/Scene.h body_role).")
+        .value("SIMULATED", BodyRole::Simulated, "moved by physics, and perturbed")
+        .value("ANIMATED", BodyRole::Animated, "follows its animation throughout")
+        .value("STATIC", BodyRole::Static, "passive and not animated: never moves")
+        .value("DISABLED", BodyRole::Disabled, "active with Dynamic off: stays where it is");
+    m.def(
+        "body_role",
+        [](bool passive, bool enabled, bool animated_throughout) {
+            Body body;
+            body.type = passive ? BodyType::Passive : BodyType::Active;
+            body.enabled = enabled;
+            body.kinematic = animated_throughout;
+            return body_role(body);
+        },
+        py::arg("passive"), py::arg("enabled"), py::arg("animated_throughout"),
+        "The role the engine gives a body of these settings (Blender's PASSIVE type, Dynamic, and\n"
+        "Animated for the whole run), for objects not exported yet.");
+
     py::class_<Scene>(m, "Scene", "A rigid-body scene in Blender's units (metres, kg, s, Z up).")
         .def_static("from_json", &scene_from_json, py::arg("text"),
                     "Parse and validate scene JSON; raises SceneError naming every problem.")
@@ -33,10 +51,16 @@ void bind_scene(py::module_& m) {
         .def_property_readonly("frame_start", [](const Scene& s) { return s.world.frame_start; })
         .def_property_readonly("fps", [](const Scene& s) { return s.world.fps; })
         .def_property_readonly("body_roles", [](const Scene& s) {
-            std::vector<std::string> roles;
-            for (const Body& b : s.bodies) roles.push_back(to_string(body_role(b)));
+            std::vector<BodyRole> roles;
+            for (const Body& b : s.bodies) roles.push_back(body_role(b));
             return roles;
-        }, "per body: 'simulated' (moved by physics), 'animated', 'static' or 'disabled' (Dynamic off)")
+        }, "per body: its BodyRole")
+        .def_property_readonly("simulated_bodies", [](const Scene& s) {
+            std::vector<uint32_t> bodies;
+            for (uint32_t i = 0; i < s.bodies.size(); ++i)
+                if (body_role(s.bodies[i]) == BodyRole::Simulated) bodies.push_back(i);
+            return bodies;
+        }, "indices of the bodies the simulation moves (BodyRole.SIMULATED)")
         .def_property_readonly("constraint_names", [](const Scene& s) {
             std::vector<std::string> names;
             for (const Constraint& c : s.constraints) names.push_back(c.name);

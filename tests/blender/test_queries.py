@@ -218,3 +218,25 @@ def test_worlds_arriving_while_sampling_are_queried(sampled):
     assert scene_boxes.library_query().index.world_count == 40
     assert matching_worlds() == direct_matches([(rect, False, ["Box0", "Box1"], None)])[0]
 
+
+
+def test_the_bodies_a_box_tests_are_the_engines_simulated_bodies_before_and_after_sampling(tmp_path):
+    """Before a library exists the panel asks the engine's own rule (BodyRole); after sampling the
+    library answers. Both must name the same bodies, including the cases Blender's raw flags get
+    wrong: Dynamic off (stays put) and Animated keyed off (let go, then simulated)."""
+    ground, (free, still, released) = drop_scene(bodies=3)
+    still.rigid_body.enabled = False
+    released.rigid_body.kinematic = True
+    released.keyframe_insert("rigid_body.kinematic", frame=1)
+    released.rigid_body.kinematic = False
+    released.keyframe_insert("rigid_body.kinematic", frame=10)
+    assert SESSION.view is None
+    before = scene_boxes.simulated_body_names(bpy.context.scene)
+    assert sorted(before) == sorted([free.name, released.name]), before
+    save_blend(tmp_path)
+    sample_and_wait(2)
+    assert SESSION.view is not None and SESSION.last_error == "", SESSION.last_error
+    after = scene_boxes.simulated_body_names(bpy.context.scene)
+    assert sorted(after) == sorted(before)
+    roles = dict(zip(SESSION.view.body_names, SESSION.view.scene.body_roles))
+    assert roles[still.name] == _native.BodyRole.DISABLED and roles[ground.name] == _native.BodyRole.STATIC

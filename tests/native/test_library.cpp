@@ -15,6 +15,7 @@
 #include "library/LibraryMerge.h"
 #include "library/LibraryReader.h"
 #include "library/LibraryWriter.h"
+#include "library/RunSettings.h"
 #include "library/WorldDecoding.h"
 #include "refine/StoredWorldRefinement.h"
 #include "sampler/Sampler.h"
@@ -315,6 +316,39 @@ TEST_F(Library, AppendingToAnotherRunIsRefused) {
     sample_into(file, fixtures::ball_on_plane(), 0, 1);
     EXPECT_THROW(LibraryWriter(file, header_for(fixtures::ball_on_plane(), 10)), LibraryError);
     EXPECT_THROW(LibraryWriter(file, header_for(fixtures::ball_on_plane(3.0))), LibraryError);
+}
+
+TEST_F(Library, TheRunSettingsAPersonChoosesDecideWhichLibraryHoldsTheRun) {
+    const Scene scene = fixtures::ball_on_plane();
+    RunSettings settings;
+    settings.seed = 9;
+    // The defaults are the parameters' and bounds' own: a run with them is the default header's.
+    EXPECT_EQ(run_hash(run_header_for(scene, settings)), run_hash(header_for(scene)));
+    const std::string file = path("held.mwb");
+    EXPECT_EQ(library_holding(file, run_header_for(scene, settings)), LibraryHolding::New);
+    sample_into(file, scene, 0, 1);
+    EXPECT_EQ(library_holding(file, run_header_for(scene, settings)), LibraryHolding::Same);
+    RunSettings finer = settings;
+    finer.rotation_error_deg = 0.25;
+    EXPECT_EQ(library_holding(file, run_header_for(scene, finer)), LibraryHolding::Other);
+    // What the writer refuses is what library_holding calls another run.
+    EXPECT_THROW(LibraryWriter(file, run_header_for(scene, finer)), OtherRunError);
+    EXPECT_EQ(read_run_header(file).base_seed, 9u);
+}
+
+TEST_F(Library, ReadingOnlyTheHeaderOfADamagedFileIsAnErrorNamingIt) {
+    const std::string file = path("short.mwb");
+    sample_into(file, fixtures::ball_on_plane(), 0, 1);
+    std::vector<uint8_t> bytes = read_all(file);
+    for (size_t cut : {size_t{3}, size_t{12}, size_t{20}, size_t{200}}) {
+        write_all(file, std::vector<uint8_t>(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(cut)));
+        try {
+            read_run_header(file);
+            ADD_FAILURE() << "a header cut at byte " << cut << " was read";
+        } catch (const LibraryError& error) {
+            EXPECT_NE(std::string(error.what()).find("short.mwb"), std::string::npos) << error.what();
+        }
+    }
 }
 
 TEST_F(Library, AReaderFollowsAFileWhileItIsWritten) {

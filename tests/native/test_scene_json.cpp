@@ -486,3 +486,25 @@ TEST(SceneJson, TruncatedAndCorruptedInputNeverCrashes) {
 
 }  // namespace
 }  // namespace mwb
+
+namespace mwb {
+namespace {
+
+// The one rule for which bodies the simulation moves; the add-on asks it through the module.
+TEST(BodyRoles, OnlyActiveEnabledBodiesNotAnimatedThroughoutAreSimulated) {
+    Body body;
+    body.type = BodyType::Active;
+    EXPECT_EQ(body_role(body), BodyRole::Simulated);
+    body.enabled = false;
+    EXPECT_EQ(body_role(body), BodyRole::Disabled);
+    body.kinematic = true;
+    EXPECT_EQ(body_role(body), BodyRole::Animated);
+    body.type = BodyType::Passive;
+    EXPECT_EQ(body_role(body), BodyRole::Animated);
+    body.kinematic = false;
+    body.enabled = true;
+    EXPECT_EQ(body_role(body), BodyRole::Static);
+}
+
+}  // namespace
+}  // namespace mwb

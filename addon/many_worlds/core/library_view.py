@@ -44,7 +44,7 @@ class LibraryView:
         self.scene = self._native.Scene.from_json(self.scene_json)
         # The object each body stands for: the names of objects in the .blend.
         self.body_names = list(self.scene.body_objects)
-        self.body_roles = list(self.scene.body_roles)
+        self._simulated = list(self.scene.simulated_bodies)
         # Presence lists have one entry per body: computed again for the longer list.
         self._present = {}
         self.scene_revision += 1
@@ -114,8 +114,8 @@ class LibraryView:
         self.version += 1
 
     def simulated_bodies(self):
-        """Indices of the bodies the simulation moves (ACTIVE, not animated), in any world."""
-        return [i for i, role in enumerate(self.body_roles) if role == "simulated"]
+        """Indices of the bodies the simulation moves (the engine's BodyRole.SIMULATED), in any world."""
+        return list(self._simulated)
 
     def world_summary(self, world):
         """A few per-world numbers for lists: summed over the simulated bodies the world has."""
