@@ -127,7 +127,7 @@ void bind_query(py::module_& m) {
             "rank",
             [](const PathIndex& index, const std::string& metric, const std::vector<uint32_t>& bodies,
                const std::string& combine, bool descending, std::optional<std::vector<uint64_t>> only,
-               std::optional<std::vector<std::array<double, 4>>> goals) {
+               std::optional<std::vector<std::array<double, 4>>> goals, std::optional<std::vector<QueryBox>> boxes) {
                 if (combine != "sum" && combine != "max") throw py::value_error("combine must be 'sum' or 'max'");
                 if (only) std::sort(only->begin(), only->end());
                 std::vector<Quat> goal_quats;
@@ -137,7 +137,7 @@ void bind_query(py::module_& m) {
                 try {
                     py::gil_scoped_release release;
                     ranked = index.rank(metric, bodies, combine == "sum" ? Combine::Sum : Combine::Max, descending,
-                                        only ? &*only : nullptr, goals ? &goal_quats : nullptr);
+                                        only ? &*only : nullptr, goals ? &goal_quats : nullptr, boxes ? &*boxes : nullptr);
                 } catch (const std::invalid_argument& error) {
                     throw py::value_error(error.what());
                 }
@@ -150,8 +150,8 @@ void bind_query(py::module_& m) {
                 return py::make_tuple(ids, values);
             },
             py::arg("metric"), py::arg("bodies"), py::arg("combine") = "sum", py::arg("descending") = false,
-            py::arg("only") = py::none(), py::arg("goals") = py::none(),
-            "Worlds sorted by a metric over bodies: (world ids uint64, values float64).")
+            py::arg("only") = py::none(), py::arg("goals") = py::none(), py::arg("boxes") = py::none(),
+            "Worlds sorted by a metric over bodies: (world ids uint64, values float64). boxes_met needs `boxes`.")
         .def(
             "score",
             [](const PathIndex& index, uint64_t world, const std::vector<QueryBox>& boxes) {

@@ -280,6 +280,19 @@ TEST(PathIndex, PositiveAndNegativeBoxesCombineByAnd) {
     EXPECT_EQ(index.query({box_over_x(-21, -19, false, {0, 1})}).matching.size(), 6u);
 }
 
+TEST(PathIndex, BoxesMetRanksEveryWorldByTheBoxesItsQueryCounts) {
+    PathIndex index({0.1, 0.5});
+    fill_small_index(index, 6);
+    const std::vector<QueryBox> boxes{box_over_x(2, 4, false, {0}), box_over_x(3, 10, true, {0})};
+    // Counts 1, 1, 2, 1, 0, 0 (as the test above): most first, ties in world order.
+    const auto most = index.rank("boxes_met", {}, Combine::Sum, true, nullptr, nullptr, &boxes);
+    EXPECT_EQ(most, (std::vector<std::pair<uint64_t, double>>{{2, 2.0}, {0, 1.0}, {1, 1.0}, {3, 1.0}, {4, 0.0}, {5, 0.0}}));
+    const std::vector<uint64_t> only{3, 4};
+    const auto fewest = index.rank("boxes_met", {}, Combine::Sum, false, &only, nullptr, &boxes);
+    EXPECT_EQ(fewest, (std::vector<std::pair<uint64_t, double>>{{4, 0.0}, {3, 1.0}}));
+    EXPECT_THROW(index.rank("boxes_met", {}, Combine::Sum, true), std::invalid_argument);
+}
+
 TEST(PathIndex, SweptQueriesSeeTheWholeBody) {
     PathIndex index({0.1, 0.5});
     fill_small_index(index, 3);

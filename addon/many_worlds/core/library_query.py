@@ -177,6 +177,7 @@ class LibraryQuery:
         self.background = background
         self.generation = 0
         self.result = None
+        self._boxes = []   # the module's QueryBoxes evaluated last (what boxes_met counts)
         self._fill = None
         self._new_index()
         self.sync()
@@ -259,6 +260,7 @@ class LibraryQuery:
         self.sync()
         file_order = np.asarray(self.view.world_indices, dtype=np.uint64)
         boxes = [self.native_box(spec) for spec in specs]
+        self._boxes = boxes
         self.generation += 1
         self.index.post_generation(self.generation)
         raw = self.index.query(boxes, generation=self.generation)
@@ -277,6 +279,7 @@ class LibraryQuery:
 
     def clear(self):
         """No boxes: every world matches."""
+        self._boxes = []
         self.view.set_matching(np.ones(len(self.view.world_indices), dtype=bool))
         self.result = QueryResult(self.view.matching.copy(),
                                   np.zeros(len(self.view.world_indices), dtype=np.uint32), 0,
@@ -292,11 +295,9 @@ class LibraryQuery:
         """
         self.sync()
         if metric_name(metric) == BOXES_MET:
-            ids = np.asarray(self.view.world_indices, dtype=np.int64)
-            values = (self.result.boxes_satisfied.astype(np.float64) if self.result is not None
-                      and len(self.result.boxes_satisfied) == len(ids) else np.zeros(len(ids)))
-            order = np.lexsort((ids, -values if descending else values))
-            return ids[order], values[order]
+            # Counted by the index, as its queries count them, over the boxes evaluated last.
+            ids, values = self.index.rank(BOXES_MET, [], descending=descending, boxes=self._boxes)
+            return np.asarray(ids, dtype=np.int64), np.asarray(values, dtype=np.float64)
         if not bodies:
             return np.zeros(0, np.int64), np.zeros(0)
         only = [int(w) for w, m in zip(self.view.world_indices, self.view.matching) if m]

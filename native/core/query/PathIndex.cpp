@@ -223,7 +223,24 @@ QueryResult PathIndex::query(const std::vector<QueryBox>& boxes, uint64_t genera
 std::vector<std::pair<uint64_t, double>> PathIndex::rank(const std::string& metric, const std::vector<uint32_t>& bodies,
                                                          Combine combine, bool descending,
                                                          const std::vector<uint64_t>* only,
-                                                         const std::vector<Quat>* goals) const {
+                                                         const std::vector<Quat>* goals,
+                                                         const std::vector<QueryBox>* boxes) const {
+    // Ties keep world order, so a ranking is reproducible.
+    auto sorted = [descending](std::vector<std::pair<uint64_t, double>> ranked) {
+        std::stable_sort(ranked.begin(), ranked.end(), [descending](const auto& a, const auto& b) {
+            return descending ? a.second > b.second : a.second < b.second;
+        });
+        return ranked;
+    };
+    if (metric == "boxes_met") {
+        if (!boxes) throw std::invalid_argument("boxes_met ranks by boxes: give the boxes");
+        const QueryResult met = query(*boxes);
+        std::vector<std::pair<uint64_t, double>> ranked;
+        for (size_t w = 0; w < met.world_indices.size(); ++w)
+            if (!only || std::binary_search(only->begin(), only->end(), met.world_indices[w]))
+                ranked.emplace_back(met.world_indices[w], static_cast<double>(met.boxes_satisfied[w]));
+        return sorted(std::move(ranked));
+    }
     const bool to_goal = metric == "orientation_to_goal_rad";
     if (to_goal && (!goals || goals->size() != bodies.size()))
         throw std::invalid_argument("orientation_to_goal_rad needs one goal orientation per body");
@@ -266,11 +283,7 @@ std::vector<std::pair<uint64_t, double>> PathIndex::rank(const std::string& metr
     std::vector<std::pair<uint64_t, double>> ranked;
     for (size_t w = 0; w < worlds.size(); ++w)
         if (ranked_here[w]) ranked.emplace_back(worlds[w]->world_index, combined[w]);
-    // Ties keep world order, so a ranking is reproducible.
-    std::stable_sort(ranked.begin(), ranked.end(), [descending](const auto& a, const auto& b) {
-        return descending ? a.second > b.second : a.second < b.second;
-    });
-    return ranked;
+    return sorted(std::move(ranked));
 }
 
 const PathIndex::World* PathIndex::find(uint64_t world_index) const {

@@ -80,13 +80,16 @@ public:
     void post_generation(uint64_t generation) { latest_generation_.store(generation); }
 
     /// Worlds (all, or `only`) sorted by `metric` combined over `bodies`. Metrics: the stored
-    /// ones (see BodyMetrics.h) and "orientation_to_goal_rad" (angle between each body's final
-    /// orientation and `goals`, one per body in `bodies`). Each world is ranked over the bodies
-    /// of `bodies` it has; a world with none of them is left out. Returns (world index, value) pairs.
+    /// ones (see BodyMetrics.h), "orientation_to_goal_rad" (angle between each body's final
+    /// orientation and `goals`, one per body in `bodies`) and "boxes_met" (how many of `boxes`
+    /// each world meets, as query() counts them; every world is ranked, `bodies` unused). Each
+    /// world is ranked over the bodies of `bodies` it has; a world with none of them is left out.
+    /// Ties keep world-index order. Returns (world index, value) pairs.
     std::vector<std::pair<uint64_t, double>> rank(const std::string& metric, const std::vector<uint32_t>& bodies,
                                                   Combine combine, bool descending,
                                                   const std::vector<uint64_t>* only = nullptr,
-                                                  const std::vector<Quat>* goals = nullptr) const;
+                                                  const std::vector<Quat>* goals = nullptr,
+                                                  const std::vector<QueryBox>* boxes = nullptr) const;
 
     /// How far world `world_index` gets towards the goal `boxes` (order: goal_order(boxes)).
     GoalScore score(uint64_t world_index, const std::vector<QueryBox>& boxes, const std::vector<size_t>& order) const;
