@@ -266,6 +266,21 @@ void bind_library(py::module_& m) {
              py::arg("world"), "metric name -> per-body values (0 for absent bodies)")
         .def("world_info", &world_info, py::arg("world"), "Where a world came from and what it holds (WorldInfo).");
 
+    m.def(
+        "thinned_indices",
+        [](int64_t points, int64_t stride) {
+            if (stride < 1) throw py::value_error("stride must be at least 1, got " + std::to_string(stride));
+            if (points < 0 || points > std::numeric_limits<uint32_t>::max())
+                throw py::value_error("points out of range: " + std::to_string(points));
+            const auto step = static_cast<uint32_t>(std::min<int64_t>(stride, std::numeric_limits<uint32_t>::max()));
+            const std::vector<uint32_t> kept = kept_point_indices(static_cast<uint32_t>(points), step);
+            py::array_t<py::ssize_t> out(static_cast<py::ssize_t>(kept.size()));
+            std::copy(kept.begin(), kept.end(), out.mutable_data());
+            return out;
+        },
+        py::arg("points"), py::arg("stride"),
+        "Indices of the points a path of `points` points keeps at `stride`: 0, stride, 2 stride, ... and the last\n"
+        "(as Library.polylines gathers them).");
     m.def("merge_libraries", &merge_libraries, py::arg("inputs"), py::arg("output"),
           py::call_guard<py::gil_scoped_release>(),
           "Merge libraries of one run into a new file; returns warnings. Raises LibraryError on mismatch or collisions.");

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -15,6 +16,7 @@
 #include "library/LibraryMerge.h"
 #include "library/LibraryReader.h"
 #include "library/LibraryWriter.h"
+#include "library/PolylineGather.h"
 #include "library/RunSettings.h"
 #include "library/WorldDecoding.h"
 #include "refine/StoredWorldRefinement.h"
@@ -349,6 +351,22 @@ TEST_F(Library, ReadingOnlyTheHeaderOfADamagedFileIsAnErrorNamingIt) {
             EXPECT_NE(std::string(error.what()).find("short.mwb"), std::string::npos) << error.what();
         }
     }
+}
+
+// The one rule for thinning a path, which Library.polylines gathers by and the add-on draws by.
+TEST(PolylineThinning, KeepsEveryStrideThPointAndTheLast) {
+    EXPECT_EQ(kept_point_indices(10, 4), (std::vector<uint32_t>{0, 4, 8, 9}));
+    EXPECT_EQ(kept_point_indices(9, 4), (std::vector<uint32_t>{0, 4, 8}));
+    EXPECT_EQ(kept_point_indices(1, 5), (std::vector<uint32_t>{0}));
+    EXPECT_TRUE(kept_point_indices(0, 5).empty());
+    for (uint32_t points : {2u, 7u, 100u, 1201u})
+        for (uint32_t stride : {1u, 2u, 3u, 16u, 5000u}) {
+            const std::vector<uint32_t> kept = kept_point_indices(points, stride);
+            EXPECT_EQ(kept.size(), kept_point_count(points, stride));
+            EXPECT_EQ(kept.front(), 0u);
+            EXPECT_EQ(kept.back(), points - 1);
+            EXPECT_TRUE(std::is_sorted(kept.begin(), kept.end()));
+        }
 }
 
 TEST_F(Library, AReaderFollowsAFileWhileItIsWritten) {

@@ -18,6 +18,7 @@ from typing import Callable, Optional, Sequence
 
 import numpy as np
 
+from .. import _native
 from . import palette, screen_thinning
 
 # Vertices the viewport draws at most (line-list vertices: two per segment).
@@ -36,11 +37,9 @@ SAMPLE_MARGIN = 0.9
 @functools.lru_cache(maxsize=64)
 def thinned_indices(points, stride):
     """Indices of the points a path of `points` keeps at `stride`: 0, stride, 2 stride, ... and the
-    last (shared between calls: not to be written to)."""
-    if points < 2:
-        return np.zeros(0, np.intp)
-    kept = np.arange(0, points, max(1, stride), dtype=np.intp)
-    kept = kept if kept[-1] == points - 1 else np.append(kept, points - 1)
+    last, by the module's rule, the one Library.polylines gathers by (shared between calls: not to
+    be written to)."""
+    kept = _native.thinned_indices(int(points), max(1, int(stride))).astype(np.intp, copy=False)
     kept.flags.writeable = False
     return kept
 

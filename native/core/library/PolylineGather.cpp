@@ -14,6 +14,12 @@ uint32_t kept_point_count(uint32_t points, uint32_t stride) {
     return (points - 1) % stride == 0 ? regular : regular + 1;
 }
 
+std::vector<uint32_t> kept_point_indices(uint32_t points, uint32_t stride) {
+    std::vector<uint32_t> kept(kept_point_count(points, stride));
+    for (uint32_t k = 0; k < kept.size(); ++k) kept[k] = kept_point_index(k, points, stride);
+    return kept;
+}
+
 uint32_t gathered_point_count(const std::vector<const StoredWorld*>& worlds, uint32_t stride) {
     uint32_t most = 0;
     for (const StoredWorld* world : worlds) most = std::max(most, kept_point_count(world->polyline_points, stride));
@@ -39,7 +45,7 @@ void gather_polylines(const std::vector<const StoredWorld*>& worlds, const std::
             const quantized::Header header = quantized::header(block);
             float* target = out + (w * bodies.size() + b) * path_floats;
             for (uint32_t k = 0; k < kept; ++k) {
-                const Vec3 p = quantized::point(header, block, std::min<size_t>(size_t{k} * stride, points - 1));
+                const Vec3 p = quantized::point(header, block, kept_point_index(k, points, stride));
                 for (int a = 0; a < 3; ++a) target[size_t{k} * 3 + static_cast<size_t>(a)] = static_cast<float>(p[a]);
             }
         }

@@ -11,6 +11,13 @@ namespace mwb {
 /// Points a polyline of `points` points keeps at `stride` (>= 1): 0, stride, 2 stride, ... and the
 /// last.
 uint32_t kept_point_count(uint32_t points, uint32_t stride);
+/// The k-th of those points (k < kept_point_count(points, stride)).
+inline uint32_t kept_point_index(uint32_t k, uint32_t points, uint32_t stride) {
+    const uint64_t at = uint64_t{k} * stride;
+    return at < points ? static_cast<uint32_t>(at) : points - 1;
+}
+/// Every one of them, in order: how any front end thins a path (drawing, screen thinning).
+std::vector<uint32_t> kept_point_indices(uint32_t points, uint32_t stride);
 
 /// The largest kept_point_count of the worlds' polylines at `stride`.
 uint32_t gathered_point_count(const std::vector<const StoredWorld*>& worlds, uint32_t stride);
