@@ -18,7 +18,7 @@ that are not bodies of the library are left alone.
 import bpy
 import numpy as np
 
-from . import compat, preview
+from . import _native, compat, preview
 from .core import arrays
 from .export import PREBAKE_MATRIX
 from .core.session import SESSION
@@ -140,7 +140,7 @@ def bake_world(context, world):
     warnings = animation_warnings([ob for _, ob in pairs] + absent, users)
     if pairs:
         index = np.array([i for i, _ in pairs])
-        loc, rot = arrays.sample_tracks(positions[index], orientations[index], world_frames)
+        loc, rot = _native.sample_tracks(positions[index], orientations[index], world_frames)
         bake_objects([ob for _, ob in pairs], frames.astype(np.float64), loc, rot, users=users)
     for i, ob in every:
         if present[i]:

@@ -9,6 +9,7 @@
 #include "sim/CompiledScene.h"
 #include "sim/OdeRandom.h"
 #include "sim/WorldSimulator.h"
+#include "sim/PoseInterpolation.h"
 
 namespace mwb {
 namespace {
@@ -206,6 +207,31 @@ TEST(Simulation, InvalidSceneIsAnErrorNamingTheBody) {
         EXPECT_NE(std::string(error.what()).find("Ball"), std::string::npos) << error.what();
         EXPECT_NE(std::string(error.what()).find("mass_kg"), std::string::npos) << error.what();
     }
+}
+
+}  // namespace
+}  // namespace mwb
+
+namespace mwb {
+namespace {
+
+// How bake and preview pose a recorded world between frames: one rule, the engine's.
+TEST(RecordedPoses, BetweenFramesAndSignContinuousAndClamped) {
+    // One body, three frames: x = 0, 1, 2; the second quaternion recorded with the other sign.
+    const std::vector<double> positions{0, 0, 0, 1, 0, 0, 2, 0, 0};
+    const std::vector<double> orientations{1, 0, 0, 0, -1, 0, 0, 0, -0.8, -0.6, 0, 0};
+    const std::vector<double> at{0, 1, 1.5, 2, 7, -3};
+    std::vector<double> loc(at.size() * 3), rot(at.size() * 4);
+    sample_recorded_poses(positions.data(), orientations.data(), 1, 3, at, loc.data(), rot.data());
+    EXPECT_DOUBLE_EQ(loc[2 * 3], 1.5);
+    EXPECT_DOUBLE_EQ(loc[4 * 3], 2.0);  // past the end: the last pose
+    EXPECT_DOUBLE_EQ(loc[5 * 3], 0.0);  // before the start: the first
+    EXPECT_DOUBLE_EQ(rot[1 * 4], 1.0);  // -q is the same rotation: it continues as +q
+    EXPECT_NEAR(rot[3 * 4], 0.8, 1e-12);
+    EXPECT_NEAR(rot[3 * 4 + 1], 0.6, 1e-12);
+    const double norm = std::hypot(1.8, 0.6);
+    EXPECT_NEAR(rot[2 * 4], 1.8 / norm, 1e-12);
+    EXPECT_NEAR(rot[2 * 4 + 1], 0.6 / norm, 1e-12);
 }
 
 }  // namespace

@@ -25,13 +25,18 @@ def test_bake_frames_cover_the_world_and_map_to_recorded_frames():
 
 
 def test_sampled_quaternions_stay_on_one_hemisphere_and_interpolate():
+    # Bake and preview pose through the module's interpolation (sim/PoseInterpolation.h).
+    from many_worlds import _native
     q = np.array([[[1, 0, 0, 0], [-1, 0, 0, 0], [-0.8, -0.6, 0, 0]]], dtype=np.float64)
-    continuous = arrays.continuous_quaternions(q)
-    assert np.allclose(continuous[0], [[1, 0, 0, 0], [1, 0, 0, 0], [0.8, 0.6, 0, 0]])
     positions = np.array([[[0, 0, 0], [1, 0, 0], [2, 0, 0]]], dtype=np.float64)
-    loc, rot = arrays.sample_tracks(positions, q, [0.5, 5.0])
-    assert np.allclose(loc[0], [[0.5, 0, 0], [2, 0, 0]])
+    loc, rot = _native.sample_tracks(positions, q, [0, 1, 2])
+    # Keys that alternate sign would make F-curves swing the long way: they come out continuous.
+    assert np.allclose(rot[0], [[1, 0, 0, 0], [1, 0, 0, 0], [0.8, 0.6, 0, 0]])
+    loc, rot = _native.sample_tracks(positions, q, [0.5, 5.0, -1.0])
+    assert np.allclose(loc[0], [[0.5, 0, 0], [2, 0, 0], [0, 0, 0]])
     assert np.allclose(np.linalg.norm(rot, axis=-1), 1)
+    half = _native.sample_tracks(positions, q, [1.5])[1][0, 0]
+    assert np.allclose(half, np.array([1.8, 0.6, 0, 0]) / np.linalg.norm([1.8, 0.6, 0, 0]))
 
 
 def test_a_sample_request_passes_every_run_setting():

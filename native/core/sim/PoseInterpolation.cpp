@@ -16,6 +16,35 @@ Transform interpolate_pose(const Transform& a, const Transform& b, double u) {
     return {add(a.location, scale(sub(b.location, a.location), u)), quat_normalized(q)};
 }
 
+void sample_recorded_poses(const double* positions, const double* orientations, size_t bodies, size_t frames,
+                           const std::vector<double>& at_frames, double* out_positions, double* out_orientations) {
+    if (frames == 0) return;
+    std::vector<Transform> track(frames);
+    for (size_t b = 0; b < bodies; ++b) {
+        const double* p = positions + b * frames * 3;
+        const double* q = orientations + b * frames * 4;
+        // Sign-continuous: each key on the hemisphere of the one before it as recorded.
+        double sign = 1;
+        for (size_t f = 0; f < frames; ++f) {
+            if (f > 0 && q[f * 4] * q[f * 4 - 4] + q[f * 4 + 1] * q[f * 4 - 3] + q[f * 4 + 2] * q[f * 4 - 2] +
+                                 q[f * 4 + 3] * q[f * 4 - 1] < 0)
+                sign = -sign;
+            track[f].location = {p[f * 3], p[f * 3 + 1], p[f * 3 + 2]};
+            track[f].rotation = {sign * q[f * 4], sign * q[f * 4 + 1], sign * q[f * 4 + 2], sign * q[f * 4 + 3]};
+        }
+        for (size_t k = 0; k < at_frames.size(); ++k) {
+            const double at = std::clamp(at_frames[k], 0.0, static_cast<double>(frames - 1));
+            const auto lo = static_cast<size_t>(std::floor(at));
+            const size_t hi = std::min(lo + 1, frames - 1);
+            const Transform t = interpolate_pose(track[lo], track[hi], at - static_cast<double>(lo));
+            double* op = out_positions + (b * at_frames.size() + k) * 3;
+            double* oq = out_orientations + (b * at_frames.size() + k) * 4;
+            for (int a = 0; a < 3; ++a) op[a] = t.location[a];
+            for (int a = 0; a < 4; ++a) oq[a] = t.rotation[a];
+        }
+    }
+}
+
 Transform sample_animation(const KinematicTrack& track, double time_s, const Transform& fallback) {
     if (track.times_s.empty()) return fallback;
     if (time_s <= track.times_s.front()) return track.transforms.front();

@@ -1,6 +1,9 @@
 #pragma once
 // Poses between keys, and the velocities that carry a body from one pose to the next: shared by
 // animated bodies and by bodies that replay a recorded world.
+#include <cstddef>
+#include <vector>
+
 #include "scene/Scene.h"
 #include "sim/WorldResult.h"
 
@@ -9,6 +12,15 @@ namespace mwb {
 /// The pose a fraction `u` in [0, 1] of the way from `a` to `b`: linear in position,
 /// normalized-linear in rotation (the shorter way round).
 Transform interpolate_pose(const Transform& a, const Transform& b, double u);
+
+/// Poses of recorded tracks at fractional frame indices `at_frames` (clamped to the recorded
+/// range), as a bake keys them and a preview shows them: interpolate_pose between neighbouring
+/// frames, each track's quaternions first made sign-continuous (q and -q are one rotation, but
+/// keys that alternate sign swing F-curves the long way round). Row-major arrays: positions
+/// (bodies, frames, 3), orientations (bodies, frames, 4) (w, x, y, z); out_positions (bodies, n, 3)
+/// and out_orientations (bodies, n, 4) for n = at_frames.size(). NaN (an absent body) stays NaN.
+void sample_recorded_poses(const double* positions, const double* orientations, size_t bodies, size_t frames,
+                           const std::vector<double>& at_frames, double* out_positions, double* out_orientations);
 
 /// The pose of `track` at `time_s`, held before its first key and after its last; `fallback` when
 /// the track has no keys.
