@@ -7,6 +7,7 @@
 #include "library/WorldDecoding.h"
 #include "query/PathIndex.h"
 #include "query/RankingMetrics.h"
+#include "query/ScreenBox.h"
 #include "scene/SceneJson.h"
 #include "seek/WorldIndexing.h"
 
@@ -29,25 +30,22 @@ QueryBox make_box(const py::array_t<double, py::array::c_style | py::array::forc
                   std::pair<double, double> viewport, std::array<double, 4> rect, bool negative,
                   std::vector<uint32_t> bodies, std::optional<std::pair<double, double>> time_window, bool swept,
                   int32_t after) {
-    QueryBox box;
+    ScreenBoxSpec spec;
+    spec.view = to_matrix(view, "view");
+    spec.projection = to_matrix(projection, "projection");
+    spec.viewport_width = viewport.first;
+    spec.viewport_height = viewport.second;
+    spec.rect = rect;
+    spec.negative = negative;
+    spec.swept = swept;
+    spec.bodies = std::move(bodies);
+    spec.time_window = time_window;
+    spec.after = after;
     try {
-        box.frustum = make_screen_frustum(to_matrix(view, "view"), to_matrix(projection, "projection"), viewport.first,
-                                          viewport.second, rect[0], rect[1], rect[2], rect[3]);
+        return make_query_box(spec);
     } catch (const std::invalid_argument& error) {
         throw py::value_error(error.what());
     }
-    if (bodies.empty()) throw py::value_error("a query box needs at least one body");
-    if (time_window) {
-        if (!(time_window->first <= time_window->second))
-            throw py::value_error("time_window must be (start_s, end_s) with start_s <= end_s");
-        box.window = {time_window->first, time_window->second};
-    }
-    box.negative = negative;
-    box.bodies = std::move(bodies);
-    box.swept = swept;
-    if (after < -1) throw py::value_error("after must be a box's position in the list, or -1");
-    box.after = after;
-    return box;
 }
 
 // What the index needs of the library's worlds it does not hold yet: at most `limit` (0: all), in
@@ -192,6 +190,18 @@ void bind_query(py::module_& m) {
         .def("__repr__", [](const RankingMetric& r) { return "<RankingMetric " + r.name + " (" + r.unit + ")>"; });
     m.def("ranking_metrics", &ranking_metrics, py::return_value_policy::copy,
           "Every metric worlds can be ranked by: the stored per-body ones, then orientation_to_goal_rad and boxes_met.");
+
+    m.def(
+        "check_goal",
+        [](const std::vector<QueryBox>& boxes) {
+            try {
+                check_goal(boxes);
+            } catch (const std::invalid_argument& error) {
+                throw py::value_error(error.what());
+            }
+        },
+        py::arg("boxes"),
+        "Raise ValueError unless the boxes make a goal: at least one, each `after` another box of the list, no cycle.");
 
     m.def(
         "body_bounding_radii",

@@ -50,6 +50,8 @@ def test_the_goal_file_has_the_engines_fields_row_major_and_the_order_by_positio
     ([box(), box(after=1)], "box 2 is to be met after itself"),
     ([box(after=2), box()], "box 1 is to be met after box 3, but the goal has 2 boxes"),
     ([BoxSpec(view=VIEW, projection=PROJECTION, size=(10, 10), rect=(0, 0, 1, 1))], "box 1 tests no bodies"),
+    ([box(time_window=(4.0, 3.0))], "box 1 has a time window"),
+    ([box(after=1), box(after=0)], "cycle"),
 ])
 def test_a_goal_that_cannot_be_met_is_refused_before_the_engine_starts(tmp_path, specs, phrase):
     with pytest.raises(ValueError, match=phrase):

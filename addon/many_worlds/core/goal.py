@@ -15,29 +15,29 @@ import json
 
 import numpy as np
 
-from .library_query import BoxSpec
+from .. import _native
+from .library_query import BoxSpec, native_box
 
 
 def _checked(specs):
+    """The specs, once the module (query/ScreenBox.h) accepts each box and the goal they make."""
     specs = list(specs)
-    if not specs:
-        raise ValueError("a goal needs at least one box")
+    boxes = []
     for k, spec in enumerate(specs):
-        if not spec.bodies:
-            raise ValueError(f"box {k + 1} tests no bodies")
-        if spec.after == k:
-            raise ValueError(f"box {k + 1} is to be met after itself")
-        if spec.after >= len(specs):
-            raise ValueError(f"box {k + 1} is to be met after box {spec.after + 1}, but the goal has "
-                             f"{len(specs)} boxes")
+        try:
+            boxes.append(native_box(spec))
+        except ValueError as error:
+            raise ValueError(f"box {k + 1} {error}") from None
+    _native.check_goal(boxes)
     return specs
 
 
 def goal_document(specs):
     """The goal file's content (a dict) for the BoxSpecs `specs`, in their order.
 
-    Raises ValueError for no boxes, a box without bodies, or an `after` that is the box itself or
-    outside the list (an ordering cycle is the engine's to refuse).
+    Raises ValueError, as the engine would refuse the goal: no boxes, a box the module refuses (no
+    bodies, a degenerate rectangle, a window that ends before it starts), an `after` that is the
+    box itself or outside the list, or an ordering cycle.
     """
     def box(spec):
         return {"view": np.asarray(spec.view, dtype=np.float64).reshape(16).tolist(),

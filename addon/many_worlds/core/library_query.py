@@ -67,6 +67,19 @@ def order_among(afters, kept):
     return [position.get(afters[k], -1) for k in position]
 
 
+def native_box(spec, native=None):
+    """The module's QueryBox of a BoxSpec (the module validates it: ValueError says what is wrong);
+    its `after` counts in the list it is queried with."""
+    if native is None:
+        from .. import _native as native
+    return native.QueryBox(
+        np.asarray(spec.view, dtype=np.float64).reshape(4, 4),
+        np.asarray(spec.projection, dtype=np.float64).reshape(4, 4),
+        (float(spec.size[0]), float(spec.size[1])), tuple(float(v) for v in spec.rect),
+        negative=bool(spec.negative), bodies=list(spec.bodies),
+        time_window=spec.time_window, swept=bool(spec.swept), after=int(spec.after))
+
+
 def order_after_removing(afters, removed):
     """The afters (as in order_among) of the boxes left once box `removed` is deleted: later boxes
     move up one place, and a box met after the deleted one has no order any more."""
@@ -242,12 +255,7 @@ class LibraryQuery:
 
     def native_box(self, spec):
         """The module's QueryBox of a BoxSpec; its `after` counts in the list it is queried with."""
-        return self.native.QueryBox(
-            np.asarray(spec.view, dtype=np.float64).reshape(4, 4),
-            np.asarray(spec.projection, dtype=np.float64).reshape(4, 4),
-            (float(spec.size[0]), float(spec.size[1])), tuple(float(v) for v in spec.rect),
-            negative=bool(spec.negative), bodies=list(spec.bodies),
-            time_window=spec.time_window, swept=bool(spec.swept), after=int(spec.after))
+        return native_box(spec, self.native)
 
     def evaluate(self, specs: Sequence[BoxSpec]):
         """Run the boxes (AND; an ordered box counts when met after its predecessor) and store the

@@ -105,9 +105,11 @@ std::vector<size_t> goal_order(const std::vector<QueryBox>& boxes) {
     const size_t n = boxes.size();
     for (size_t k = 0; k < n; ++k)
         if (boxes[k].after >= 0 && (static_cast<size_t>(boxes[k].after) >= n || static_cast<size_t>(boxes[k].after) == k))
-            throw std::invalid_argument("box " + std::to_string(k + 1) + " is ordered after box " +
-                                        std::to_string(boxes[k].after + 1) + ", which " +
-                                        (static_cast<size_t>(boxes[k].after) == k ? "is itself" : "does not exist"));
+            throw std::invalid_argument(
+                static_cast<size_t>(boxes[k].after) == k
+                    ? "box " + std::to_string(k + 1) + " is to be met after itself"
+                    : "box " + std::to_string(k + 1) + " is to be met after box " + std::to_string(boxes[k].after + 1) +
+                          ", but the goal has " + std::to_string(n) + " boxes");
     // Each box has at most one predecessor: the order is a forest. Walk it depth first, roots in
     // list order, children in list order, so the order is the list's wherever the list allows.
     std::vector<size_t> order;

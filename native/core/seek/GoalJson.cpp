@@ -2,7 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "query/GoalScore.h"
+#include "query/ScreenBox.h"
 #include "scene/BodyChanges.h"
 
 namespace mwb {
@@ -70,38 +70,39 @@ std::vector<QueryBox> goal_from_json(const std::string& text, const Scene& scene
     }
     if (!goal.is_object() || !goal.contains("boxes") || !goal["boxes"].is_array())
         throw GoalError("the goal has no \"boxes\" list");
-    if (goal["boxes"].empty()) throw GoalError("the goal has no boxes: draw at least one box");
     std::vector<QueryBox> boxes;
     try {
         for (size_t k = 0; k < goal["boxes"].size(); ++k) {
             const json& b = goal["boxes"][k];
             const std::string where = "box " + std::to_string(k + 1);
             if (!b.is_object()) throw GoalError(where + " is not an object");
-            QueryBox box;
+            ScreenBoxSpec spec;
             const std::vector<double> viewport = numbers(b, "viewport", 2, where);
             const std::vector<double> rect = numbers(b, "rect", 4, where);
-            try {
-                box.frustum = make_screen_frustum(matrix(b, "view", where), matrix(b, "projection", where), viewport[0],
-                                                  viewport[1], rect[0], rect[1], rect[2], rect[3]);
-            } catch (const std::invalid_argument& error) {
-                throw GoalError(where + ": " + error.what());
-            }
-            box.bodies = bodies_of(b, scene, where);
-            box.negative = b.value("negative", false);
-            box.swept = b.value("swept", false);
+            spec.view = matrix(b, "view", where);
+            spec.projection = matrix(b, "projection", where);
+            spec.viewport_width = viewport[0];
+            spec.viewport_height = viewport[1];
+            std::copy(rect.begin(), rect.end(), spec.rect.begin());
+            spec.bodies = bodies_of(b, scene, where);
+            spec.negative = b.value("negative", false);
+            spec.swept = b.value("swept", false);
             if (b.contains("time_window") && !b["time_window"].is_null()) {
                 const std::vector<double> w = numbers(b, "time_window", 2, where);
-                if (!(w[0] <= w[1])) throw GoalError(where + ": time_window must be [start, end] with start <= end");
-                box.window = {w[0], w[1]};
+                spec.time_window = std::make_pair(w[0], w[1]);
             }
-            if (b.contains("after") && !b["after"].is_null()) box.after = b["after"].get<int32_t>();
-            boxes.push_back(std::move(box));
+            if (b.contains("after") && !b["after"].is_null()) spec.after = b["after"].get<int32_t>();
+            try {
+                boxes.push_back(make_query_box(spec));
+            } catch (const std::invalid_argument& error) {
+                throw GoalError(where + " " + error.what());
+            }
         }
     } catch (const json::exception& error) {
         throw GoalError(std::string("the goal is malformed: ") + error.what());
     }
     try {
-        goal_order(boxes);
+        check_goal(boxes);
     } catch (const std::invalid_argument& error) {
         throw GoalError(error.what());
     }
