@@ -79,14 +79,6 @@ def require_file(path, what="file"):
     return path
 
 
-def open_library(path):
-    require_file(path, "library")
-    try:
-        return _native.Library(path)
-    except _native.LibraryError as error:
-        raise CliError(str(error))
-
-
 def open_view(path):
     """The library as the add-on browses it: the bodies of its current scene, which exist where."""
     require_file(path, "library")
@@ -96,41 +88,32 @@ def open_view(path):
         raise CliError(str(error))
 
 
-def library_scene(library):
-    """The library's current scene: the sampled bodies, then every one added since."""
-    return _native.Scene.from_json(library.scene_json)
-
-
-def library_body_names(library):
-    """The object each body stands for (an object updated after sampling has a body per definition)."""
-    return list(library_scene(library).body_objects)
-
-
-def check_library_matches_scene(library, path):
+def check_library_matches_scene(view, path):
     """The library must come from this .blend: every body it holds is an object here, except bodies
     that some worlds lack (added or removed after sampling; a removed one may be deleted here)."""
     import bpy
-    names = library_body_names(library)
+    names = view.body_names
     missing = [i for i, name in enumerate(names) if name not in bpy.data.objects]
     if missing:
         lacking = set()
-        for world in library.world_indices:
-            lacking.update(i for i, present in enumerate(library.present(world)) if not present)
+        for world in view.library.world_indices:
+            lacking.update(i for i, present in enumerate(view.library.present(world)) if not present)
         missing = [i for i in missing if i not in lacking]
     if missing:
         raise CliError(f"{path} was sampled from another scene: no object {names[missing[0]]!r} in "
                        f"{bpy.data.filepath or 'this file'}")
 
 
-def body_indices(library, objects_text):
-    names = library_body_names(library)
+def body_indices(view, objects_text):
+    """The body indices of the objects named (comma-separated), or every simulated body."""
+    names = view.body_names
     if objects_text:
         wanted = [n.strip() for n in objects_text.split(",") if n.strip()]
         unknown = [n for n in wanted if n not in names]
         if unknown:
             raise CliError(f"unknown object {unknown[0]!r} (the library has: {', '.join(names)})")
         return [i for i, name in enumerate(names) if name in wanted]
-    return list(library_scene(library).simulated_bodies)
+    return view.simulated_bodies()
 
 
 # --- sample ---------------------------------------------------------------------------------
@@ -280,7 +263,7 @@ def parse_after(text, box, count):
     return after - 1
 
 
-def parse_boxes(args, library):
+def parse_boxes(args, view):
     """The --box groups: each --box starts a box; --negative/--objects/--time/--swept/--after after
     it refine it."""
     boxes = []
@@ -293,14 +276,14 @@ def parse_boxes(args, library):
             raise CliError(f"--time: start after end in '{spec['time']}'")
         after = parse_after(spec["after"], k, len(args.box_specs)) if spec.get("after") is not None else -1
         boxes.append(dict(rect=(x0, y0, x1, y1), negative=spec.get("negative", False),
-                          bodies=body_indices(library, spec.get("objects") or getattr(args, "objects", None)),
+                          bodies=body_indices(view, spec.get("objects") or getattr(args, "objects", None)),
                           time_window=window, swept=spec.get("swept", False), after=after))
     return boxes
 
 
-def box_specs(args, library):
+def box_specs(args, view):
     """The --box groups as BoxSpecs in the camera's view (pixels at the render resolution)."""
-    boxes = parse_boxes(args, library)
+    boxes = parse_boxes(args, view)
     if not boxes:
         return []
     view_matrix, projection, (width, height) = camera_view(args.camera)
@@ -313,7 +296,7 @@ def box_specs(args, library):
 def evaluate_boxes(args, view):
     """(LibraryQuery over every world, QueryResult of the --box groups or None without boxes).
     Like the add-on, a box never sees bodies a world lacks."""
-    specs = box_specs(args, view.library)
+    specs = box_specs(args, view)
     if not specs:
         return LibraryQuery(_native, view), None
     lq = LibraryQuery(_native, view)
@@ -325,7 +308,7 @@ def evaluate_boxes(args, view):
 
 def command_query(args):
     view = open_view(args.library)
-    check_library_matches_scene(view.library, args.library)
+    check_library_matches_scene(view, args.library)
     if not args.box_specs:
         raise CliError("query needs at least one --box")
     _, result = evaluate_boxes(args, view)
@@ -344,9 +327,9 @@ def command_rank(args):
     args.metric = metric_name(args.metric)
     if args.metric not in METRICS:
         raise CliError(f"unknown metric {args.metric!r} (one of: {', '.join(METRICS)})")
-    bodies = body_indices(view.library, args.objects)
+    bodies = body_indices(view, args.objects)
     if args.box_specs:
-        check_library_matches_scene(view.library, args.library)
+        check_library_matches_scene(view, args.library)
     lq, result = evaluate_boxes(args, view)
     if args.metric == BOXES_MET:
         if result is None:
@@ -371,9 +354,9 @@ def command_seek(args):
             raise CliError(f"{option}: expected at least 1, got {value}")
     if args.budget_s is not None and args.budget_s <= 0:
         raise CliError(f"--budget-s: expected a positive number of seconds, got {args.budget_s}")
-    library = open_library(args.library)
-    check_library_matches_scene(library, args.library)
-    specs = box_specs(args, library)
+    view = open_view(args.library)
+    check_library_matches_scene(view, args.library)
+    specs = box_specs(args, view)
     with tempfile.TemporaryDirectory(prefix="mwb-seek-") as folder:
         try:
             goal_path = goal.write_goal(os.path.join(folder, "goal.json"), specs)
@@ -396,7 +379,7 @@ def command_bake(args):
     from . import bake
     from .core.session import SESSION
     view = open_view(args.library)
-    check_library_matches_scene(view.library, args.library)
+    check_library_matches_scene(view, args.library)
     if args.world not in set(int(w) for w in view.world_indices):
         raise CliError(f"no world {args.world} in {args.library}")
     SESSION.view = view
@@ -414,7 +397,7 @@ def command_preview(args):
     import bpy
     from . import scene_render
     view = open_view(args.library)
-    check_library_matches_scene(view.library, args.library)
+    check_library_matches_scene(view, args.library)
     available = set(int(w) for w in view.world_indices)
     try:
         worlds = [int(w) for w in args.worlds.split(",")]
@@ -424,7 +407,7 @@ def command_preview(args):
     if missing:
         raise CliError(f"no world {missing[0]} in {args.library}")
     camera, projection, (width, height) = camera_view(args.camera)
-    bodies = body_indices(view.library, args.objects)
+    bodies = body_indices(view, args.objects)
     colours = palette.body_colours(view.body_names, view.simulated_bodies())
     tiles = []
     for w in worlds:

@@ -196,8 +196,8 @@ class LibraryQuery:
         self.sync()
 
     def _new_index(self):
-        scene = self.native.Scene.from_json(self.view.scene_json)
-        self.index = self.native.PathIndex(self.native.body_bounding_radii(scene))
+        # The view's scene, parsed once when it read the library's scene (revision).
+        self.index = self.native.PathIndex(self.native.body_bounding_radii(self.view.scene))
         self.scene_revision = self.view.scene_revision
 
     @property
