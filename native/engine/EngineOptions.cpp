@@ -3,6 +3,8 @@
 #include <cmath>
 #include <algorithm>
 #include <cstdlib>
+#include <map>
+#include <set>
 
 namespace mwb {
 namespace {
@@ -46,6 +48,36 @@ std::vector<std::string> parse_names(const std::string& flag, const std::string&
     return names;
 }
 
+// The flags each command takes; any other is refused, naming the command.
+const std::set<std::string>& flags_of(const std::string& command) {
+    static const std::set<std::string> common{"--events", "--progress", "--threads"};
+    auto with_common = [](std::set<std::string> own) {
+        own.insert(common.begin(), common.end());
+        return own;
+    };
+    static const std::map<std::string, std::set<std::string>> flags{
+        {"sample", with_common({"--scene", "--out", "--seed", "--worlds", "--count", "--duration", "--alpha", "--no-perturb",
+                                "--no-sleep", "--no-stop-at-rest", "--no-shared-prefix", "--position-error",
+                                "--rotation-error", "--in-process", "--world-time-limit"})},
+        {"refine", with_common({"--library", "--world", "--bodies", "--time", "--count", "--first-child", "--add",
+                                "--remove", "--update", "--scene"})},
+        {"seek", with_common({"--library", "--goal", "--want", "--budget-worlds", "--budget-s", "--seed", "--json"})},
+        {"info", {"--json", "--events"}},
+        {"merge", {"--events"}},
+        {"validate", {"--events"}},
+    };
+    // A worker takes what its supervisor was given.
+    const auto it = flags.find(command == "worker" ? "sample" : command);
+    static const std::set<std::string> none;
+    return it == flags.end() ? none : it->second;
+}
+
+bool is_known_flag(const std::string& flag) {
+    for (const char* command : {"sample", "refine", "seek", "info"})
+        if (flags_of(command).count(flag)) return true;
+    return false;
+}
+
 }  // namespace
 
 const char* engine_usage() {
@@ -72,8 +104,11 @@ EngineOptions parse_engine_options(const std::vector<std::string>& args) {
     EngineOptions options;
     options.command = args[0];
     std::vector<std::string> positional;
+    const std::set<std::string>& allowed = flags_of(options.command);
     for (size_t i = 1; i < args.size(); ++i) {
         const std::string& flag = args[i];
+        if (flag.rfind("--", 0) == 0 && !allowed.empty() && !allowed.count(flag))
+            throw UsageError(is_known_flag(flag) ? options.command + " does not take " + flag : "unknown option " + flag);
         auto value = [&]() -> const std::string& {
             if (i + 1 >= args.size()) throw UsageError(flag + " needs a value");
             return args[++i];
@@ -97,7 +132,7 @@ EngineOptions parse_engine_options(const std::vector<std::string>& args) {
         else if (flag == "--events") options.events = true;
         else if (flag == "--world-time-limit") options.world_time_limit_s = parse_number(flag, value());
         else if (flag == "--json") options.json = true;
-        else if (flag == "--library") options.output_path = value();
+        else if (flag == "--library") options.library_path = value();
         else if (flag == "--goal") options.goal_path = value();
         else if (flag == "--want") options.want = parse_count(flag, value());
         else if (flag == "--budget-worlds") options.budget_worlds = parse_count(flag, value());
@@ -129,7 +164,7 @@ EngineOptions parse_engine_options(const std::vector<std::string>& args) {
         if (!(options.bounds.position_error_max_m > 0) || !(options.bounds.rotation_error_max_rad > 0))
             throw UsageError("codec error bounds must be positive");
     } else if (options.command == "refine") {
-        if (options.output_path.empty()) throw UsageError("refine needs --library");
+        if (options.library_path.empty()) throw UsageError("refine needs --library");
         const bool changes_scene =
             !options.add_bodies.empty() || !options.remove_bodies.empty() || !options.update_bodies.empty();
         if (changes_scene) {
@@ -143,7 +178,7 @@ EngineOptions parse_engine_options(const std::vector<std::string>& args) {
         }
         if (options.world_count == 0) throw UsageError("--count must be at least 1");
     } else if (options.command == "seek") {
-        if (options.output_path.empty() || options.goal_path.empty()) throw UsageError("seek needs --library and --goal");
+        if (options.library_path.empty() || options.goal_path.empty()) throw UsageError("seek needs --library and --goal");
         if (options.budget_worlds == 0) throw UsageError("seek needs --budget-worlds of at least 1");
         if (options.want == 0) throw UsageError("--want must be at least 1");
         if (options.budget_s < 0) throw UsageError("--budget-s must not be negative");
@@ -157,10 +192,6 @@ EngineOptions parse_engine_options(const std::vector<std::string>& args) {
     } else {
         throw UsageError("unknown command '" + options.command + "' (sample, refine, seek, info, merge or validate)");
     }
-    if (options.command != "sample" && options.command != "worker" && options.command != "merge" &&
-        options.command != "refine" && options.command != "seek" &&
-        !options.output_path.empty())
-        throw UsageError("--out is only for sample");
     return options;
 }
 

@@ -20,7 +20,8 @@ struct UsageError : std::runtime_error {
 struct EngineOptions {
     std::string command;  ///< sample | refine | seek | info | merge | validate | worker (internal)
     std::string scene_path;
-    std::string output_path;
+    std::string output_path;            ///< sample: --out; merge: the merged library
+    std::string library_path;           ///< refine, seek: --library (appended to)
     std::vector<std::string> inputs;
     uint64_t base_seed = 0;
     uint64_t first_world = 0;

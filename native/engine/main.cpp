@@ -159,7 +159,7 @@ std::string describe_change(const EngineOptions& options, const RefineOutcome& o
 // Refines one stored world (see refine_stored_world): `count` children that branch at the given
 // time, or that add or remove bodies from t = 0.
 int run_refine(const EngineOptions& options, EngineEvents& events) {
-    const LibraryReader reader(options.output_path);
+    const LibraryReader reader(options.library_path);
     RefineRequest request;
     request.parent_world = options.parent_world;
     request.bodies = options.bodies;
@@ -171,7 +171,7 @@ int run_refine(const EngineOptions& options, EngineEvents& events) {
     request.update = options.update_bodies;
     if (!options.scene_path.empty()) request.source_scene = load_scene_file(options.scene_path);
     request.threads = options.threads;
-    LibraryWriter writer(options.output_path, reader.header());
+    LibraryWriter writer(options.library_path, reader.header());
     listen_for_cancel(options);
     uint64_t finished = 0;
     const RefineOutcome outcome = refine_stored_world(
@@ -237,7 +237,7 @@ int run_seek(const EngineOptions& options, EngineEvents& events) {
     const std::string goal_text((std::istreambuf_iterator<char>(goal_file)), std::istreambuf_iterator<char>());
     SeekRequest request;
     {
-        const LibraryReader reader(options.output_path);
+        const LibraryReader reader(options.library_path);
         request.boxes = goal_from_json(goal_text, scene_from_json(reader.scene_json()));
     }
     request.want = options.want;
@@ -247,7 +247,7 @@ int run_seek(const EngineOptions& options, EngineEvents& events) {
     request.threads = options.threads;
     listen_for_cancel(options);
     const SeekOutcome outcome = seek_goal(
-        options.output_path, request,
+        options.library_path, request,
         [&](const SeekStatus& s) {
             std::ostringstream text;
             text << "seek: best " << s.best_boxes_met << " of " << s.box_count << " boxes (world " << s.best_world

@@ -131,3 +131,17 @@ def test_an_engine_that_dies_without_an_error_event_is_reported_as_a_crash(engin
     started.wait(60)
     failure = started.failure()
     assert failure is not None and failure.code == "crashed" and "exit code" in failure.message
+
+
+def test_each_command_takes_only_its_own_options(engine, tmp_path):
+    result, events = event_lines(engine, "sample", "--scene", QUICKSTART, "--out", str(tmp_path / "a.mwb"),
+                                 "--goal", "g.json")
+    assert result.returncode == int(engine_process.EngineExit.USAGE)
+    assert events[-1]["event"] == "error" and events[-1]["code"] == "usage"
+    assert events[-1]["message"] == "sample does not take --goal"
+    assert not (tmp_path / "a.mwb").exists()
+    result, events = event_lines(engine, "info", str(tmp_path / "a.mwb"), "--worlds", "0:3")
+    assert events[-1]["message"] == "info does not take --worlds"
+    result, events = event_lines(engine, "seek", "--library", "l.mwb", "--goal", "g.json", "--budget-worlds", "3",
+                                 "--frobnicate")
+    assert events[-1]["message"] == "unknown option --frobnicate"
