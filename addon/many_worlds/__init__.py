@@ -29,6 +29,8 @@ def register():
     for cls in _classes():
         bpy.utils.register_class(cls)
     props.register_properties()
+    from .operators import browsing
+    browsing.subscribe_reactions()
     handlers.add()
     draw.add_handlers()
     keymaps.add()
@@ -42,10 +44,12 @@ def unregister():
     from .core.session import SESSION
     from .thumbnails import THUMBNAILS
     from .ui import legend
-    from .operators import sampling
+    from .operators import run_poller
     from . import compat
+    from .core import reactions
     compat.unregister_cli_command()
-    sampling.stop_for_unregister()
+    reactions.clear()
+    run_poller.stop_for_unregister()
     # Put the user's scene back before the properties that describe it go away.
     preview.end_all_previews()
     keymaps.remove()

@@ -11,8 +11,8 @@ from .operators import browsing
 @bpy.app.handlers.persistent
 def on_load_post(*_args):
     # A different file: the old library, engine and caches belong to the previous one.
-    from .operators import sampling
-    sampling.stop_for_unregister()
+    from .operators import run_poller
+    run_poller.stop_for_unregister()
     SESSION.close()
     paths.OVERLAY.clear()
     preview.forget()
@@ -20,7 +20,7 @@ def on_load_post(*_args):
         props.upgrade_saved_variation(ob)
     scene = bpy.context.scene
     try:
-        browsing.open_library(scene)
+        browsing.open_scene_library(scene)
     except (IOError, ValueError) as error:
         SESSION.last_error = f"Could not reopen the library: {error}"
 

@@ -7,6 +7,7 @@ from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProp
                        IntProperty, IntVectorProperty, PointerProperty, StringProperty)
 
 from . import _native, compat
+from .core import reactions
 
 # The run settings' defaults are the engine's (library/RunSettings.h), not copies of them.
 _RUN_DEFAULTS = _native.RunSettings()
@@ -121,25 +122,17 @@ class MWB_LibraryItem(bpy.types.PropertyGroup):
 
 def _on_library_index(self, context):
     # Choosing a library in the list makes it the one Sample writes to and the one browsed.
-    from .operators import browsing
     if 0 <= self.library_index < len(self.libraries):
-        import os
-        from .core.session import SESSION
         self.library_path = self.libraries[self.library_index].path
-        browsing.open_library(context.scene)
-        browsing.sync_world_list(context.scene)
-        count = len(SESSION.view.world_indices) if SESSION.view else 0
-        SESSION.status = f"Opened {os.path.basename(bpy.path.abspath(self.library_path))}: {count} worlds"
-        SESSION.last_error = ""
+        reactions.notify(reactions.LIBRARY_CHOSEN, context.scene)
     _tag_redraw(self, context)
 
 
 def _on_world_list_index(self, context):
-    # Selecting a row previews that world; the import is late to keep modules free of cycles.
-    from . import preview
+    # Selecting a row previews that world.
     if 0 <= self.world_list_index < len(self.worlds):
         self.selected_world = self.worlds[self.world_list_index].world_index
-        preview.begin(context.scene)
+        reactions.notify(reactions.WORLD_SELECTED, context.scene)
     for area in (context.screen.areas if context.screen else []):
         area.tag_redraw()
 
@@ -150,9 +143,8 @@ def _tag_redraw(self, context):
 
 
 def _on_box_change(self, context):
-    # Any edit of a box changes which worlds match; the import is late to keep modules free of cycles.
-    from . import scene_boxes
-    scene_boxes.refresh(context.scene)
+    # Any edit of a box changes which worlds match.
+    reactions.notify(reactions.BOXES_CHANGED, context.scene)
 
 
 class MWB_BodyName(bpy.types.PropertyGroup):

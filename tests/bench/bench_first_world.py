@@ -22,7 +22,7 @@ sys.path.insert(0, os.path.join(ROOT, "addon"))
 
 import many_worlds  # noqa: E402
 from many_worlds.core.session import SESSION  # noqa: E402
-from many_worlds.operators import sampling  # noqa: E402
+from many_worlds.operators import run_poller  # noqa: E402
 
 EXAMPLE = os.path.join(ROOT, "blend_examples", "quickstart", "quickstart.blend")
 RUNS = 3
@@ -42,13 +42,13 @@ def one_run(folder, interval_s):
     # The timer's first call comes one interval after Sample returns; then every interval.
     while True:
         time.sleep(interval_s)
-        sampling.poll_sampling()
+        run_poller.poll_run()
         if SESSION.view is not None and SESSION.view.world_indices:
             seen = time.perf_counter() - start
             break
-        assert SESSION.engine is not None, f"sampling ended without a world: {SESSION.status}"
+        assert SESSION.run is not None, f"sampling ended without a world: {SESSION.status}"
         assert time.perf_counter() - start < 60, "no world after 60 s"
-    sampling.stop_for_unregister()
+    run_poller.stop_for_unregister()
     return seen
 
 
@@ -57,7 +57,7 @@ def main():
         sys.exit(f"bench_first_world: {EXAMPLE} is missing (run blend_examples/quickstart/build_quickstart.py)")
     bpy.ops.wm.read_factory_settings(use_empty=True)
     many_worlds.register()
-    cadences = (("timer", sampling.POLL_INTERVAL_S), ("tight", 0.002))
+    cadences = (("timer", run_poller.POLL_INTERVAL_S), ("tight", 0.002))
     times = {name: [] for name, _ in cadences}
     try:
         for run in range(RUNS):

@@ -7,7 +7,7 @@ The library is the quick-start scene (tests/scenes/quickstart.json: 4 moving bod
 there and sampled again only when this build cannot read it (about 1 to 3 minutes on 2 threads).
 
 Each run starts from a fresh factory scene with the add-on registered, opens the library as the
-Open Library button and a file load do (operators.browsing.open_library), and then prepares the
+Open Library button and a file load do (core.libraries.open_library), and then prepares the
 viewport's paths as the overlay's timer does (draw.paths.OVERLAY.update: choosing, thinning, the
 vertex and colour arrays handed to gpu.types.GPUBatch; background mode has no GPU, and handing
 about 2,000,000 vertices to batch_for_shader adds 30-45 ms in the UI). "first paths" is the time
@@ -33,6 +33,7 @@ from many_worlds import _native  # noqa: E402
 from many_worlds.core.library_view import LibraryView  # noqa: E402
 from many_worlds.core.session import SESSION  # noqa: E402
 from many_worlds.draw import paths  # noqa: E402
+from many_worlds.core import libraries  # noqa: E402
 from many_worlds.operators import browsing  # noqa: E402
 
 WORLDS, RUNS = 10_000, 3
@@ -111,7 +112,7 @@ def one_run(path):
     try:
         paths.OVERLAY.clear()
         start = time.perf_counter()
-        assert browsing.open_library(bpy.context.scene, path)
+        assert libraries.open_library(path, bpy.context.scene)
         assert paths.OVERLAY.update(bpy.context) and paths.OVERLAY.arrays.vertex_count > 0
         first_s = time.perf_counter() - start
         drawn = paths.OVERLAY.arrays.worlds_drawn

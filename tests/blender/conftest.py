@@ -111,15 +111,15 @@ def save_blend(tmp_path, name="shot.blend"):
 def sample_and_wait(count, timeout_s=180, **settings):
     """Press Sample (the real operator and engine child process) and pump the poller to the end."""
     from many_worlds.core.session import SESSION
-    from many_worlds.operators import sampling
+    from many_worlds.operators import run_poller
     mwb = bpy.context.scene.mwb
     mwb.world_count = count
     for key, value in settings.items():
         setattr(mwb, key, value)
     assert bpy.ops.mwb.sample() == {"FINISHED"}
-    assert SESSION.engine is not None
+    assert SESSION.run is not None
     deadline = time.monotonic() + timeout_s
-    while sampling.poll_sampling() is not None:
+    while run_poller.poll_run() is not None:
         assert time.monotonic() < deadline, "sampling did not finish in time"
         time.sleep(0.05)
     return SESSION
@@ -129,17 +129,17 @@ def cancel_after_finished(count=2, timeout_s=60, ready=None):
     """Let the running engine child finish `count` worlds (or, given `ready`, pump the poller until
     ready() is true), press Cancel, and pump the poller until the run has ended."""
     from many_worlds.core.session import SESSION
-    from many_worlds.operators import sampling
+    from many_worlds.operators import run_poller
     if ready is None:
         def ready():
-            return SESSION.engine.progress()[0] >= count
+            return SESSION.run.progress()[0] >= count
     deadline = time.monotonic() + timeout_s
     while not ready():
         assert time.monotonic() < deadline, "the engine did not make its worlds in time"
-        sampling.poll_sampling()
+        run_poller.poll_run()
         time.sleep(0.05)
     assert bpy.ops.mwb.cancel_sampling() == {"FINISHED"}
-    while sampling.poll_sampling() is not None:
+    while run_poller.poll_run() is not None:
         assert time.monotonic() < deadline, "the engine did not stop in time"
         time.sleep(0.05)
 

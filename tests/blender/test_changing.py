@@ -22,7 +22,7 @@ from many_worlds.core import arrays, paths
 from many_worlds.core import family as core_family
 from many_worlds.core.session import SESSION
 from many_worlds.draw import paths as path_overlay
-from many_worlds.operators import changing, sampling
+from many_worlds.operators import changing
 
 FRAME_END = 49
 BOX_HALF_M = 0.1
@@ -60,7 +60,7 @@ def run_operator(operator, world, count=3):
     bpy.context.scene.mwb.refine_count = count
     before = set(SESSION.view.world_indices)
     assert operator() == {"FINISHED"}
-    assert SESSION.engine is not None
+    assert SESSION.run is not None
     pump()
     assert SESSION.last_error == "", SESSION.status
     return sorted(set(SESSION.view.world_indices) - before)
@@ -187,7 +187,7 @@ def test_add_refuses_bad_selections_with_one_line_errors(domino_scene):
     with pytest.raises(RuntimeError, match="Select the objects to refine"):
         bpy.ops.mwb.refine(rect=(0, 0, SIZE[0], SIZE[1]), view_matrix=VIEW.ravel().tolist(),
                            projection_matrix=PROJECTION.ravel().tolist(), region_size=SIZE)
-    assert child in SESSION.view.world_indices and SESSION.engine is None
+    assert child in SESSION.view.world_indices and SESSION.run is None
 
 
 def test_an_object_moved_after_sampling_is_updated_as_a_body_of_its_own(domino_scene):
@@ -230,7 +230,7 @@ def test_an_object_moved_after_sampling_is_updated_as_a_body_of_its_own(domino_s
     select_only("Ball")
     with pytest.raises(RuntimeError, match=f"Ball is not in world {first}; add it instead"):
         bpy.ops.mwb.update_in_worlds()
-    assert SESSION.engine is None
+    assert SESSION.run is None
     # Baking the updated world keys the ball from its new body and never hides it.
     bpy.ops.mwb.select_world(world=updated)
     assert bpy.ops.mwb.bake_world() == {"FINISHED"}
@@ -388,9 +388,9 @@ def test_cancel_keeps_the_finished_worlds_of_a_removal(tmp_path):
     mwb = bpy.context.scene.mwb
     mwb.refine_count, mwb.threads = 5000, 1
     assert bpy.ops.mwb.remove_from_worlds() == {"FINISHED"}
-    assert SESSION.run_label == "Removing" and not bpy.ops.mwb.sample.poll()
+    assert SESSION.runs[-1].label == "Removing" and not bpy.ops.mwb.sample.poll()
     cancel_after_finished(2)
-    assert SESSION.engine is None and SESSION.last_error == ""
+    assert SESSION.run is None and SESSION.last_error == ""
     assert "Removing cancelled" in SESSION.status
     children = [w for w in SESSION.view.world_indices if w != world]
     assert 2 <= len(children) < 5000

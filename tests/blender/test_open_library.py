@@ -24,7 +24,7 @@ from many_worlds.core.library_view import LibraryView
 from many_worlds.core.paths import engine_path
 from many_worlds.core.session import SESSION
 from many_worlds.draw import paths
-from many_worlds.operators import browsing
+from many_worlds.core import libraries
 
 WORLDS = 600
 STEP_WORLDS = 100
@@ -101,7 +101,7 @@ def test_paths_are_drawn_while_the_index_fills_and_queries_answer_for_the_worlds
     assert 0.2 * WORLDS < matching.sum() < 0.8 * WORLDS
     scene_boxes.store_box(scene, VIEW, PROJECTION, SIZE, rect, False, [BODY])
 
-    assert browsing.open_library(scene, library)
+    assert libraries.open_library(library, scene)
     view, lq = SESSION.view, SESSION.query
     assert len(view.world_indices) == WORLDS and lq.indexed_count == 0 and lq.filling
     # Paths are drawn before a single world is indexed, within the budget.
@@ -149,7 +149,7 @@ def test_paths_are_drawn_while_the_index_fills_and_queries_answer_for_the_worlds
 
 def test_closing_the_library_stops_the_fill_and_reopening_indexes_everything(library, gated):
     scene = bpy.context.scene
-    assert browsing.open_library(scene, library)
+    assert libraries.open_library(library, scene)
     gated.release()
     lq = SESSION.query
     wait_until(lambda: lq.indexed_count == STEP_WORLDS)
@@ -160,6 +160,6 @@ def test_closing_the_library_stops_the_fill_and_reopening_indexes_everything(lib
     assert lq.indexed_count == STEP_WORLDS, "the fill went on after the library was closed"
     # Without the gate: the fill runs to the end by itself.
     GatedFill.gate = threading.Semaphore(WORLDS)
-    assert browsing.open_library(scene, library)
+    assert libraries.open_library(library, scene)
     wait_until(lambda: not SESSION.query.filling)
     assert SESSION.query.indexed_count == WORLDS

@@ -13,7 +13,7 @@ from test_queries import PROJECTION, SIZE, VIEW, to_screen
 from many_worlds import _native
 from many_worlds.core import family as core_family
 from many_worlds.core.session import SESSION
-from many_worlds.operators import sampling
+from many_worlds.operators import run_poller
 from many_worlds.ui import lists
 
 
@@ -58,7 +58,7 @@ def refine(rect):
 
 def pump(timeout_s=120):
     deadline = time.monotonic() + timeout_s
-    while sampling.poll_sampling() is not None:
+    while run_poller.poll_run() is not None:
         assert time.monotonic() < deadline, "the engine run did not finish in time"
         time.sleep(0.05)
 
@@ -69,7 +69,7 @@ def refine_and_wait(world, body, time_s, count):
     bpy.context.scene.mwb.refine_count = count
     rect = rect_around(world, body, time_s)
     assert refine(rect) == {"FINISHED"}
-    assert SESSION.engine is not None and SESSION.run_label == "Refining"
+    assert SESSION.run is not None and SESSION.runs[-1].label == "Refining"
     before = set(SESSION.view.world_indices)
     pump()
     assert SESSION.last_error == "", SESSION.status
@@ -145,7 +145,7 @@ def test_a_box_the_objects_never_enter_reports_and_starts_nothing(sampled):
     select_only("Box0")
     # A corner of the view far above the scene: no path goes there.
     assert refine((0, SIZE[1] - 20, 20, SIZE[1])) == {"CANCELLED"}
-    assert SESSION.engine is None
+    assert SESSION.run is None
     assert SESSION.status == f"the selected objects never enter that box in world {world}"
     assert len(_native.Library(SESSION.view.path).world_indices) == 4
 
@@ -155,7 +155,7 @@ def test_refining_needs_selected_simulated_objects_and_a_selected_world(sampled)
     bpy.ops.mwb.select_world(world=sampled.world_indices[0])
     with pytest.raises(RuntimeError, match="Select the objects to refine"):
         refine(rect_around(sampled.world_indices[0], "Box0", 0.3))
-    assert SESSION.engine is None
+    assert SESSION.run is None
 
 
 def test_cancel_keeps_finished_children_and_allows_one_run_at_a_time(tmp_path):
@@ -171,7 +171,7 @@ def test_cancel_keeps_finished_children_and_allows_one_run_at_a_time(tmp_path):
     # One engine run at a time: neither sampling nor another refinement can start now.
     assert not bpy.ops.mwb.sample.poll() and not bpy.ops.mwb.refine.poll()
     cancel_after_finished(2)
-    assert SESSION.engine is None and SESSION.last_error == ""
+    assert SESSION.run is None and SESSION.last_error == ""
     assert "Refining cancelled" in SESSION.status
     children = [w for w in SESSION.view.world_indices if w != world]
     assert 2 <= len(children) < 5000

@@ -72,7 +72,7 @@ def sample_then_cancel(tmp_path, count):
 
 def test_cancel_stops_the_engine_and_keeps_finished_worlds(tmp_path):
     sample_then_cancel(tmp_path, 5000)
-    assert SESSION.engine is None and SESSION.last_error == ""
+    assert SESSION.run is None and SESSION.last_error == ""
     kept = SESSION.view.world_indices
     assert 2 <= len(kept) < 5000
     assert "cancelled" in SESSION.status
@@ -159,7 +159,7 @@ def test_an_unsampleable_scene_is_refused_before_the_engine_starts(tmp_path):
     bpy.data.objects["Box0"].rigid_body.collision_shape = "MESH"
     with pytest.raises(RuntimeError, match="mass_kg must be > 0"):
         bpy.ops.mwb.sample()
-    assert SESSION.engine is None
+    assert SESSION.run is None
     assert not os.path.exists(str(tmp_path / "shot.mwb"))
 
 

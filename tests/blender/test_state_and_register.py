@@ -9,7 +9,7 @@ import many_worlds
 from many_worlds import _native, handlers, preview
 from many_worlds.core.session import SESSION
 from many_worlds.draw import boxes, paths, world_label
-from many_worlds.operators import sampling
+from many_worlds.operators import run_poller
 
 
 def test_save_and_reopen_restores_library_and_selected_world(tmp_path):
@@ -63,14 +63,14 @@ def test_register_unregister_cycles_leave_no_handlers_timers_or_draw_callbacks(t
     mwb = bpy.context.scene.mwb
     mwb.world_count, mwb.threads = 2000, 1
     bpy.ops.mwb.sample()
-    run = SESSION.engine
-    assert bpy.app.timers.is_registered(sampling.poll_sampling)
+    run = SESSION.run
+    assert bpy.app.timers.is_registered(run_poller.poll_run)
     assert len(our_handlers()) == 5 and paths.OVERLAY.active and boxes.OVERLAY.active and world_label.OVERLAY.active
     assert len(our_keymap_items()) == 6 and query_box_tool_registered()
     for _ in range(3):
         many_worlds.unregister()
         assert our_handlers() == [] and our_keymap_items() == [] and not query_box_tool_registered()
-        assert not bpy.app.timers.is_registered(sampling.poll_sampling)
+        assert not bpy.app.timers.is_registered(run_poller.poll_run)
         assert not (paths.OVERLAY.active or boxes.OVERLAY.active or world_label.OVERLAY.active)
         assert not hasattr(bpy.types, "MWB_OT_sample") and not hasattr(bpy.types.Scene, "mwb")
         assert not hasattr(bpy.types, "MWB_OT_draw_box") and not hasattr(bpy.types, "MWB_UL_ranking")
@@ -81,7 +81,7 @@ def test_register_unregister_cycles_leave_no_handlers_timers_or_draw_callbacks(t
         assert len(our_keymap_items()) == 6 and query_box_tool_registered()
         assert bpy.context.scene.mwb.world_count == 2000, "saved settings survive re-registration"
     # Unregistering stopped the engine; the worlds it finished are in the file.
-    assert run.returncode() is not None and SESSION.engine is None
+    assert run.returncode() is not None and SESSION.run is None
     assert handlers.on_load_post in bpy.app.handlers.load_post
     assert preview.on_frame_change in bpy.app.handlers.frame_change_pre
 
@@ -98,11 +98,11 @@ def test_unregister_stops_a_refinement_and_keeps_its_finished_children(tmp_path)
     # The whole view: Box0 is inside from the start, so the children branch at 0 s.
     assert bpy.ops.mwb.refine(rect=(0, 0, 1600, 1000), view_matrix=VIEW.ravel().tolist(),
                               projection_matrix=PROJECTION.ravel().tolist(), region_size=SIZE) == {"FINISHED"}
-    run = SESSION.engine
-    assert run is not None and bpy.app.timers.is_registered(sampling.poll_sampling)
+    run = SESSION.run
+    assert run is not None and bpy.app.timers.is_registered(run_poller.poll_run)
     many_worlds.unregister()
-    assert run.returncode() is not None and SESSION.engine is None
-    assert not bpy.app.timers.is_registered(sampling.poll_sampling)
+    assert run.returncode() is not None and SESSION.run is None
+    assert not bpy.app.timers.is_registered(run_poller.poll_run)
     library = _native.Library(str(tmp_path / "shot.mwb"))
     assert all(library.world_info(w).parent_world == 0 for w in library.world_indices if w != 0)
     many_worlds.register()

@@ -19,7 +19,7 @@ from many_worlds.core import path_budget
 from many_worlds.core.paths import engine_path
 from many_worlds.core.session import SESSION
 from many_worlds.draw import paths
-from many_worlds.operators import browsing
+from many_worlds.core import libraries
 
 WORLDS = 10_000
 SCENE = os.path.join(ROOT, "tests", "scenes", "quickstart.json")
@@ -59,7 +59,7 @@ def library():
 @pytest.fixture
 def opened(library):
     paths.OVERLAY.clear()
-    assert browsing.open_library(bpy.context.scene, library)
+    assert libraries.open_library(library, bpy.context.scene)
     yield SESSION.view
     SESSION.close()
     paths.OVERLAY.clear()

@@ -16,7 +16,7 @@ sys.path.insert(0, os.path.join(ROOT, "tests", "blender"))
 
 import many_worlds  # noqa: E402
 from conftest import drop_scene  # noqa: E402
-from many_worlds.operators import sampling  # noqa: E402
+from many_worlds.operators import run_poller  # noqa: E402
 
 WORLDS = 24
 
@@ -37,7 +37,7 @@ def main(out_dir):
     bpy.context.scene.mwb.world_count = WORLDS
     assert bpy.ops.mwb.sample() == {"FINISHED"}
     deadline = time.monotonic() + 120
-    while sampling.poll_sampling() is not None:
+    while run_poller.poll_run() is not None:
         assert time.monotonic() < deadline, "sampling did not finish"
         time.sleep(0.05)
     for ob in bpy.data.objects:

@@ -95,8 +95,8 @@ def steps():
     assert 0 <= expected_t <= BRANCH_AT_S, expected_t
     for _ in drag_refine_box(window, area, region, rect):
         yield
-    assert SESSION.engine is not None and SESSION.run_label == "Refining", SESSION.status
-    while SESSION.engine is not None:
+    assert SESSION.run is not None and SESSION.runs[-1].label == "Refining", SESSION.status
+    while SESSION.run is not None:
         yield
     assert SESSION.last_error == "", SESSION.last_error
     children = [w for w in SESSION.view.world_indices if w not in sampled]
@@ -126,13 +126,13 @@ def steps():
     rect = rect_on_path(region, child, "Box1", 0.2)
     for _ in drag_refine_box(window, area, region, rect):
         yield
-    assert SESSION.engine is not None, SESSION.status
-    while SESSION.engine is not None and SESSION.engine.progress()[0] < 2:
+    assert SESSION.run is not None, SESSION.status
+    while SESSION.run is not None and SESSION.run.progress()[0] < 2:
         yield
     simulate(window, region, "ESC", "PRESS", 300, 300)
     yield
     simulate(window, region, "ESC", "RELEASE", 300, 300)
-    while SESSION.engine is not None:
+    while SESSION.run is not None:
         yield
     grandchildren = [w for w in SESSION.view.world_indices
                      if SESSION.view.lineages()[w].parent == child]
@@ -146,8 +146,8 @@ def steps():
     scene.mwb.refine_count = 3
     with bpy.context.temp_override(window=window, area=area, region=region):
         assert bpy.ops.mwb.remove_from_worlds("INVOKE_DEFAULT") == {"RUNNING_MODAL"}
-    assert SESSION.run_label == "Removing", SESSION.status
-    while SESSION.engine is not None:
+    assert SESSION.runs[-1].label == "Removing", SESSION.status
+    while SESSION.run is not None:
         yield
     assert SESSION.last_error == "", SESSION.last_error
     box2 = SESSION.view.body_names.index("Box2")

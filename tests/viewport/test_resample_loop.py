@@ -53,7 +53,7 @@ def steps():
     settings.world_count = 4
     with bpy.context.temp_override(window=window, area=area, region=region):
         assert bpy.ops.mwb.sample("INVOKE_DEFAULT") == {"RUNNING_MODAL"}, SESSION.status
-    while SESSION.engine is not None:
+    while SESSION.run is not None:
         yield
     assert SESSION.last_error == "", SESSION.last_error
     second_library = SESSION.view.path

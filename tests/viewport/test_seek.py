@@ -106,7 +106,7 @@ def steps():
     settings.world_count, settings.threads = FIRST_WORLDS, THREADS
     started = time.monotonic()
     press(window, area, region, bpy.ops.mwb.sample)
-    while SESSION.engine is not None:
+    while SESSION.run is not None:
         yield
     assert SESSION.last_error == "", SESSION.last_error
     assert len(SESSION.view.world_indices) == FIRST_WORLDS, SESSION.view.world_indices
@@ -132,12 +132,12 @@ def steps():
     assert settings.seek_want == 1 and settings.seek_budget_worlds == 2000 and settings.seek_budget_s == 0
     started = time.monotonic()
     press(window, area, region, bpy.ops.mwb.seek)
-    run = SESSION.engine
-    assert run is not None and SESSION.run_label == "Seeking"
+    run = SESSION.run
+    assert run is not None and SESSION.runs[-1].label == "Seeking"
     # (boxes met by the best world, the best world, the selected world) as the panel shows them,
     # and each line it showed with the seconds since Seek was pressed.
     shown, lines, shot = [], [], False
-    while SESSION.engine is not None:
+    while SESSION.run is not None:
         yield
         lines.append((round(time.monotonic() - started, 1), SESSION.status))
         said = SEEKING.match(SESSION.status)
@@ -176,14 +176,14 @@ def steps():
     settings.seek_want, settings.seek_budget_worlds = 1000, 100000
     started = time.monotonic()
     press(window, area, region, bpy.ops.mwb.seek)
-    while SESSION.engine is not None and len(SESSION.view.world_indices) < before + 16:
+    while SESSION.run is not None and len(SESSION.view.world_indices) < before + 16:
         yield
     simulate(window, "MOUSEMOVE", "NOTHING", region.x + 300, region.y + 300)
     yield
     simulate(window, "ESC", "PRESS", region.x + 300, region.y + 300)
     yield
     simulate(window, "ESC", "RELEASE", region.x + 300, region.y + 300)
-    while SESSION.engine is not None:
+    while SESSION.run is not None:
         yield
     stored = len(_native.Library(SESSION.view.path).world_indices)
     assert SESSION.status.startswith("Seek cancelled: best"), SESSION.status

@@ -263,7 +263,7 @@ def steps():
 
     # The library opened again while its path index still fills: the Boxes panel says how far.
     with held_index_fill():
-        assert browsing.open_library(scene)
+        assert browsing.open_scene_library(scene)
         yield
         redraw_all()
         results.append(measure("index_filling"))

@@ -1,6 +1,6 @@
 """Operators grouped by what the user does: sampling, browsing, querying, refining, changing
 which objects exist in worlds, seeking a goal."""
-from . import browsing, changing, boxes, refining, sampling, seeking
+from . import browsing, changing, boxes, refining, run_poller, sampling, seeking
 
-classes = (*sampling.classes, *browsing.classes, *boxes.classes, *refining.classes, *changing.classes,
+classes = (*run_poller.classes, *sampling.classes, *browsing.classes, *boxes.classes, *refining.classes, *changing.classes,
            *seeking.classes)

@@ -1,10 +1,10 @@
-"""Opening a library, keeping the world list in step with it, selecting worlds."""
+"""Browsing a library: what follows its opening, keeping the world list in step with it, selecting worlds."""
 import os
 
 import bpy
 
 from .. import preview, props, scene_boxes
-from ..core.library_view import LibraryView
+from ..core import libraries, reactions
 from ..core.session import SESSION
 
 
@@ -37,26 +37,47 @@ def sync_world_list(scene):
     return len(view.world_indices) - listed
 
 
-def open_library(scene, path=None):
-    """Open (or reopen) the scene's library and restore the selection; False if there is none yet."""
-    from .. import _native
-    path = path or props.resolved_library_path(scene)
-    SESSION.view = None
-    if not path or not os.path.isfile(path):
-        return False
-    SESSION.view = LibraryView(_native, path)
+def on_library_opened(scene, view):
+    """Once the library service opened `view` (reactions.LIBRARY_OPENED): list its worlds, apply
+    the scene's saved boxes (the path index fills in the background and the boxes follow it), and
+    restore the selection."""
+    if scene is None:
+        return
     sync_world_list(scene)
-    # Apply the scene's saved boxes; the path index fills in the background and the boxes follow it.
     scene_boxes.refresh(scene)
     settings = scene.mwb
-    if settings.selected_world in SESSION.view.world_indices:
+    if settings.selected_world in view.world_indices:
         # Set the index without its update callback re-entering the preview.
-        index = SESSION.view.world_indices.index(settings.selected_world)
+        index = view.world_indices.index(settings.selected_world)
         if settings.world_list_index != index:
             settings["world_list_index"] = index
         if settings.previewing:
             preview.apply(scene)
-    return True
+
+
+def open_scene_library(scene):
+    """Open (or reopen) the scene's library and restore the selection; False if there is none yet."""
+    return libraries.open_library(props.resolved_library_path(scene), scene)
+
+
+def on_library_chosen(scene):
+    """The Libraries list chose another library (reactions.LIBRARY_CHOSEN): browse it."""
+    open_scene_library(scene)
+    count = len(SESSION.view.world_indices) if SESSION.view else 0
+    SESSION.status = f"Opened {os.path.basename(props.resolved_library_path(scene))}: {count} worlds"
+    SESSION.last_error = ""
+
+
+def on_world_selected(scene):
+    """The Worlds list selected a world (reactions.WORLD_SELECTED): preview it."""
+    preview.begin(scene)
+
+
+def subscribe_reactions():
+    reactions.subscribe(reactions.LIBRARY_OPENED, on_library_opened)
+    reactions.subscribe(reactions.LIBRARY_CHOSEN, on_library_chosen)
+    reactions.subscribe(reactions.WORLD_SELECTED, on_world_selected)
+    reactions.subscribe(reactions.BOXES_CHANGED, scene_boxes.refresh)
 
 
 class MWB_OT_open_library(bpy.types.Operator):
@@ -66,7 +87,7 @@ class MWB_OT_open_library(bpy.types.Operator):
 
     def execute(self, context):
         try:
-            found = open_library(context.scene)
+            found = open_scene_library(context.scene)
         except (IOError, ValueError) as error:
             self.report({"ERROR"}, str(error))
             return {"CANCELLED"}

@@ -6,7 +6,7 @@ for worlds with it (or without it, or with it where it is now): `mwb-engine refi
 --remove / --update` appends children of the selected world in which the objects exist from 0 s
 (or not at all, or as a new body for their new definition); whatever they touch (or touched) is
 simulated anew, and every other body replays the world bit for bit. The run goes through the
-sampling poller like a refinement: children stream into the list and the viewport as they land,
+run poller like a refinement: children stream into the list and the viewport as they land,
 Esc / Cancel keeps the finished ones, and only one engine run exists at a time.
 """
 import bpy
@@ -15,14 +15,15 @@ from .. import export, preview
 from ..core import engine as engine_process
 from ..core import paths
 from ..core.session import SESSION
-from .sampling import FollowsEngineRun, start_run
+from ..core.run import RunKind
+from .run_poller import FollowsRun, start_run
 
 
 def _world_problem(scene):
     """Why no world can be changed now (one line), or ''."""
     view = SESSION.view
-    if SESSION.engine is not None:
-        return f"{SESSION.run_label} is running; wait for it or cancel it first"
+    if SESSION.run is not None:
+        return f"{SESSION.run.label} is running; wait for it or cancel it first"
     if view is None:
         return "Open or sample a library first"
     if scene.mwb.selected_world not in view.world_indices:
@@ -93,7 +94,7 @@ def bodies_to_update(context):
                             "Select the objects to update (objects in the world, changed since it was made)")
 
 
-def _start(scene, world, add_names, remove_names, scene_json, label, status, update_names=()):
+def _start(scene, world, add_names, remove_names, scene_json, kind, status, update_names=()):
     """Build the engine command and start the run; returns '' or why it could not start."""
     settings = scene.mwb
     view = SESSION.view
@@ -101,7 +102,7 @@ def _start(scene, world, add_names, remove_names, scene_json, label, status, upd
         request = engine_process.ChangeRequest(view.path, world, add=add_names, remove=remove_names,
                                                update=update_names, scene_json=scene_json,
                                                count=settings.refine_count, threads=settings.threads)
-        start_run(scene, request, view.path, label, status)
+        start_run(scene, kind, request, view.path, status)
     except (ValueError, OSError) as error:
         return str(error)
     return ""
@@ -146,10 +147,10 @@ def _export_and_start(context, names, updating):
         return False, f"Cannot write {scene_json}: {error.strerror}", warnings
     world, count = scene.mwb.selected_world, scene.mwb.refine_count
     if updating:
-        problem = _start(scene, world, [], [], scene_json, "Updating",
+        problem = _start(scene, world, [], [], scene_json, RunKind.UPDATE,
                          f"Updating {', '.join(names)} in world {world} in {count} new worlds", update_names=names)
     else:
-        problem = _start(scene, world, names, [], scene_json, "Adding",
+        problem = _start(scene, world, names, [], scene_json, RunKind.ADD,
                          f"Adding {', '.join(names)} to world {world} in {count} new worlds")
     return not problem, problem or SESSION.status, warnings
 
@@ -162,12 +163,12 @@ def start_removing(context):
     scene = context.scene
     world, count = scene.mwb.selected_world, scene.mwb.refine_count
     shown = [f"{name} (deleted from the scene)" if name in deleted else name for name in names]
-    problem = _start(scene, world, [], names, "", "Removing",
+    problem = _start(scene, world, [], names, "", RunKind.REMOVE,
                      f"Removing {', '.join(shown)} from world {world} in {count} new worlds")
     return not problem, problem or SESSION.status, []
 
 
-class ChangesWorldObjects(FollowsEngineRun):
+class ChangesWorldObjects(FollowsRun):
     """A button that starts an engine run changing the selected world's objects: `starter(context)`
     returns (started, message, warnings)."""
 
@@ -175,7 +176,7 @@ class ChangesWorldObjects(FollowsEngineRun):
 
     @classmethod
     def poll(cls, context):
-        return SESSION.engine is None
+        return SESSION.run is None
 
     def _start(self, context):
         ok, message, warnings = type(self).starter(context)

@@ -3,7 +3,7 @@
 The first time any selected object's path enters the box's frustum (t_min, from the path index)
 is where the new worlds branch: `mwb-engine refine` re-creates the world up to t_min and
 simulates the selected objects anew, appending children of the world to the same library. The
-run goes through the sampling poller, so children stream into the list and the viewport as they
+run goes through the run poller, so children stream into the list and the viewport as they
 land, Esc / Cancel keeps the finished ones, and only one engine run exists at a time.
 """
 import bpy
@@ -14,7 +14,8 @@ from ..core import engine as engine_process
 from ..core.library_query import normalized_rect
 from ..core.session import SESSION
 from ..draw import boxes as box_overlay
-from . import sampling
+from ..core.run import RunKind
+from . import run_poller
 from .boxes import BoxDrag, camera_of
 
 
@@ -27,8 +28,8 @@ def selected_body_names(context, view, world):
 def refine_problem(context, world):
     """Why refining cannot start now (one line), or '' when it can."""
     view = SESSION.view
-    if SESSION.engine is not None:
-        return f"{SESSION.run_label} is running; wait for it or cancel it first"
+    if SESSION.run is not None:
+        return f"{SESSION.run.label} is running; wait for it or cancel it first"
     if view is None:
         return "Open or sample a library first"
     if world not in view.world_indices:
@@ -55,9 +56,9 @@ def start_refining(scene, world, body_names, time_s):
     request = engine_process.RefineRequest(
         view.path, world, tuple(view.present_bodies(world, scene_boxes.body_indices(body_names, view))), time_s,
         settings.refine_count, settings.threads)
-    sampling.start_run(scene, request, view.path, "Refining",
-                       f"Refining {', '.join(body_names)} in world {world} from {time_s:.2f} s "
-                       f"into {settings.refine_count} worlds")
+    run_poller.start_run(scene, RunKind.REFINE, request, view.path,
+                         f"Refining {', '.join(body_names)} in world {world} from {time_s:.2f} s "
+                         f"into {settings.refine_count} worlds")
 
 
 def refine_through_box(operator, context, view_matrix, projection_matrix, size, rect):
@@ -98,7 +99,7 @@ class MWB_OT_refine(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return SESSION.engine is None and SESSION.view is not None
+        return SESSION.run is None and SESSION.view is not None
 
     def execute(self, context):
         camera = camera_of(self, context)
@@ -127,7 +128,7 @@ class MWB_OT_refine_box(BoxDrag, bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return context.window is not None and SESSION.engine is None and SESSION.view is not None
+        return context.window is not None and SESSION.run is None and SESSION.view is not None
 
     def _prepare(self, context):
         self._waiting = False
@@ -159,15 +160,15 @@ class MWB_OT_refine_box(BoxDrag, bpy.types.Operator):
             return {"CANCELLED"}
         # Stay modal only to catch Esc and report the end; the timer poller streams the worlds.
         self._waiting = True
-        self._timer = context.window_manager.event_timer_add(sampling.POLL_INTERVAL_S, window=context.window)
+        self._timer = context.window_manager.event_timer_add(run_poller.POLL_INTERVAL_S, window=context.window)
         return {"RUNNING_MODAL"}
 
     def modal(self, context, event):
         if not self._waiting:
             return super().modal(context, event)
         if event.type == "ESC" and event.value == "PRESS":
-            sampling.cancel_sampling()
-        if SESSION.engine is not None:
+            run_poller.cancel_run()
+        if SESSION.run is not None:
             return {"PASS_THROUGH"}
         context.window_manager.event_timer_remove(self._timer)
         self.report({"ERROR"} if SESSION.last_error else {"INFO"}, SESSION.last_error or SESSION.status)

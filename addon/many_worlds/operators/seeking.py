@@ -2,7 +2,7 @@
 
 The goal is the enabled boxes, each box met after the one it is ordered after (if that one is
 enabled too). `mwb-engine seek` refines worlds again and again, appending each to the library as
-it is made; the run goes through the sampling poller, so worlds stream into the list and the
+it is made; the run goes through the run poller, so worlds stream into the list and the
 viewport, Esc / Cancel stops it and keeps every world made, and only one engine run exists at a
 time. Whenever the engine names a new best world, it is selected and previewed as if clicked in
 the Worlds list.
@@ -16,13 +16,14 @@ from ..core import engine as engine_process
 from ..core import goal as core_goal
 from ..core import paths
 from ..core.session import SESSION
-from .sampling import FollowsEngineRun, start_run
+from ..core.run import RunKind
+from .run_poller import FollowsRun, start_run
 
 
 def seek_problem(scene):
     """Why a seek cannot start now (one line), or ''."""
-    if SESSION.engine is not None:
-        return f"{SESSION.run_label} is running; wait for it or cancel it first"
+    if SESSION.run is not None:
+        return f"{SESSION.run.label} is running; wait for it or cancel it first"
     if SESSION.view is None:
         return "Open or sample a library first"
     if not scene_boxes.enabled_specs(scene, SESSION.view):
@@ -89,7 +90,7 @@ def start_seek(context):
         goal_path = core_goal.write_goal(paths.goal_json_path(view.path), specs)
         request = engine_process.SeekRequest(view.path, goal_path, settings.seek_want, settings.seek_budget_worlds,
                                              settings.seek_budget_s, threads=settings.threads)
-        start_run(scene, request, view.path, "Seeking",
+        start_run(scene, RunKind.SEEK, request, view.path,
                   f"Seeking {settings.seek_want} {noun} meeting {len(specs)} boxes in {os.path.basename(view.path)}",
                   follower=SeekFollower(settings.seek_want, len(specs)))
     except (ValueError, OSError) as error:
@@ -97,7 +98,7 @@ def start_seek(context):
     return True, SESSION.status
 
 
-class MWB_OT_seek(FollowsEngineRun, bpy.types.Operator):
+class MWB_OT_seek(FollowsRun, bpy.types.Operator):
     """Refine worlds until some meet every enabled box (in their order); new worlds stream in and
     the best one is previewed (Esc cancels; every world made stays)"""
     bl_idname = "mwb.seek"
@@ -105,7 +106,7 @@ class MWB_OT_seek(FollowsEngineRun, bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return SESSION.engine is None and SESSION.view is not None
+        return SESSION.run is None and SESSION.view is not None
 
     def _start(self, context):
         ok, message = start_seek(context)

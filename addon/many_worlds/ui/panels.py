@@ -12,6 +12,7 @@ from .fit import wrapped_labels
 from ..core import library_query
 from ..core.export_warnings import grouped_warning_lines
 from ..operators import sampling
+from ..core.run import RunKind
 from ..core.session import SESSION
 from ..draw import paths as path_overlay
 
@@ -32,7 +33,7 @@ class LibraryPanel(SidebarPanel):
 
 
 def cancel_button(layout):
-    layout.operator("mwb.cancel_sampling", text=f"Cancel {SESSION.run_label}", icon="CANCEL")
+    layout.operator("mwb.cancel_sampling", text=f"Cancel {SESSION.run.label}", icon="CANCEL")
 
 
 # --- 1. Sample -----------------------------------------------------------------------------------
@@ -52,7 +53,7 @@ class MWB_PT_sampling(SidebarPanel, bpy.types.Panel):
         if len(settings.libraries) > 1:
             layout.template_list("MWB_UL_libraries", "", settings, "libraries", settings, "library_index", rows=2)
         interrupted = sampling.interrupted_run(context.scene)
-        if interrupted is not None and SESSION.engine is None:
+        if interrupted is not None and SESSION.run is None:
             wrapped_labels(layout, context, f"Worlds {interrupted[0]} to {interrupted[1] - 1} were cancelled",
                            "PAUSE")
         col = layout.column(align=True)
@@ -63,14 +64,14 @@ class MWB_PT_sampling(SidebarPanel, bpy.types.Panel):
         col.prop(settings, "duration_s")
         row = layout.row(align=True)
         row.scale_y = 1.4
-        if SESSION.engine is None:
+        if SESSION.run is None:
             row.operator("mwb.sample", icon="PLAY")
             row.operator("mwb.check_scene", text="", icon="VIEWZOOM")
         else:
             cancel_button(row)
-        if SESSION.status and SESSION.run_label != "Seeking":
+        if SESSION.status and SESSION.last_kind != RunKind.SEEK:
             wrapped_labels(layout, context, SESSION.status, "INFO")
-        if SESSION.last_error and SESSION.run_label != "Seeking":
+        if SESSION.last_error and SESSION.last_kind != RunKind.SEEK:
             wrapped_labels(layout, context, SESSION.last_error, "ERROR")
         if SESSION.export_warnings:
             # What the engine does not reproduce as Blender would, named by object and setting.
@@ -166,11 +167,11 @@ class MWB_PT_seek(SidebarPanel, bpy.types.Panel):
         col.prop(settings, "seek_want")
         col.prop(settings, "seek_budget_worlds")
         col.prop(settings, "seek_budget_s")
-        if SESSION.engine is None:
+        if SESSION.run is None:
             layout.operator("mwb.seek", icon="VIEWZOOM")
         else:
             cancel_button(layout)
-        if SESSION.run_label == "Seeking":
+        if SESSION.last_kind == RunKind.SEEK:
             if SESSION.last_error:
                 wrapped_labels(layout, context, SESSION.last_error, "ERROR")
             elif SESSION.status:
@@ -274,7 +275,7 @@ class MWB_PT_refine(LibraryPanel, bpy.types.Panel):
         layout = self.layout
         settings = context.scene.mwb
         layout.prop(settings, "refine_count")
-        if SESSION.engine is not None:
+        if SESSION.run is not None:
             cancel_button(layout)
             wrapped_labels(layout, context, SESSION.status, "INFO")
             return
