@@ -101,10 +101,28 @@ class WorldInfo:
     changed_bodies: List[bool]
     motion_bytes: int
 
+class LibraryHeader:
+    """The run a library holds, as sampled."""
+    scene_json: str          # the scene the worlds were sampled in
+    base_seed: int
+    position_error_max_m: float
+    rotation_error_max_rad: float
+    scene_hash: str
+    run_hash: str
+    engine_build: str        # empty in libraries made before builds were recorded
+    parameters: SimulationParameters
+
+class WorldMetrics:
+    """A world's stored metrics: per name, one value per scene body (0 for absent bodies)."""
+    names: List[str]
+    def __getitem__(self, name: str) -> List[float]: ...
+    def __contains__(self, name: str) -> bool: ...
+    def get(self, name: str, otherwise: Sequence[float] = ()) -> List[float]: ...
+
 class Library:
     """A .mwb library file: run header, worlds (compressed in memory), rejections."""
     path: str
-    header: dict
+    header: LibraryHeader
     scene_json: str
     body_count: int
     run_last_frame: int
@@ -127,7 +145,7 @@ class Library:
     def polyline_stride(self, world: int) -> int: ...
     def rest_times(self, world: int) -> List[float]: ...
     def contacts(self, world: int) -> List[Tuple[float, int, int, float]]: ...
-    def metrics(self, world: int) -> Dict[str, List[float]]: ...
+    def metrics(self, world: int) -> WorldMetrics: ...
     def world_info(self, world: int) -> WorldInfo: ...
 
 class QueryBox:
@@ -146,17 +164,40 @@ class RankingMetric:
     unit: str  # 'rad', 's', 'm', 'hits' or 'boxes'
     help: str
 
+class QueryResult:
+    """What a query of boxes found, over every indexed world."""
+    world_indices: np.ndarray     # uint64, every indexed world in world-index order
+    boxes_satisfied: np.ndarray   # uint32, per world of world_indices
+    matching: np.ndarray          # uint64, the worlds meeting every box
+    superseded: bool              # a newer query was posted; the rest is incomplete
+
+class Ranking:
+    """Worlds sorted by a metric."""
+    world_indices: np.ndarray     # uint64
+    values: np.ndarray            # float64, per world of world_indices
+
+class GoalScore:
+    """How far a world gets towards a goal."""
+    boxes_met: int
+    met: List[bool]
+    met_time_s: List[float]
+    first_unmet: int              # -1: every box is met
+    closeness: float              # to the first unmet box, in [0, 1)
+    value: float                  # boxes_met + closeness
+    failure_time_s: float
+    failing_bodies: List[int]
+
 class PathIndex:
     world_count: int
     memory_bytes: int
     def __init__(self, body_radii_m: Sequence[float]) -> None: ...
     def add_library(self, library: Library, threads: int = 0, limit: int = 0) -> int: ...
-    def query(self, boxes: Sequence[QueryBox], generation: int = 0, brute_force: bool = False) -> dict: ...
+    def query(self, boxes: Sequence[QueryBox], generation: int = 0, brute_force: bool = False) -> QueryResult: ...
     def post_generation(self, generation: int) -> None: ...
     def rank(self, metric: str, bodies: Sequence[int], combine: str = "sum", descending: bool = False,
              only: Optional[Sequence[int]] = None, goals: Optional[Sequence[Sequence[float]]] = None,
-             boxes: Optional[Sequence[QueryBox]] = None) -> Tuple[np.ndarray, np.ndarray]: ...
-    def score(self, world: int, boxes: Sequence[QueryBox]) -> dict: ...
+             boxes: Optional[Sequence[QueryBox]] = None) -> Ranking: ...
+    def score(self, world: int, boxes: Sequence[QueryBox]) -> GoalScore: ...
     def first_time_inside(self, world: int, bodies: Sequence[int], box: QueryBox) -> float: ...
 
 class RunSettings:
@@ -203,7 +244,13 @@ def validate_scene_json(text: str) -> List[str]: ...
 def sample(scene: Scene, parameters: SimulationParameters, base_seed: int, first_world: int, world_count: int,
            threads: int = 0, on_world: Optional[Callable[[World], None]] = None) -> List[World]: ...
 def refine_stored_world(library: str, world: int, bodies: Sequence[int], branch_time_s: float, count: int,
-                        threads: int = 0, first_child: int = -1) -> Tuple[List[int], int, int]: ...
+                        threads: int = 0, first_child: int = -1) -> "RefineResult": ...
+
+class RefineResult:
+    """What a refinement in this process made."""
+    children: List[int]   # the new worlds' indices
+    stored: int
+    rejected: int
 def thinned_indices(points: int, stride: int) -> np.ndarray: ...
 def merge_libraries(inputs: Sequence[str], output: str) -> List[str]: ...
 def body_bounding_radii(scene: Scene) -> List[float]: ...

@@ -25,18 +25,22 @@ py::array_t<double> as_array(std::vector<double>&& data, std::vector<py::ssize_t
     return out;
 }
 
-py::dict header_dict(const RunHeader& h) {
-    py::dict d;
-    d["scene_json"] = h.scene_json;
-    d["base_seed"] = h.base_seed;
-    d["position_error_max_m"] = h.bounds.position_error_max_m;
-    d["rotation_error_max_rad"] = h.bounds.rotation_error_max_rad;
-    d["scene_hash"] = scene_hash(h);
-    d["run_hash"] = run_hash(h);
-    d["engine_build"] = h.engine_build;
-    d["parameters"] = py::cast(h.parameters);
-    return d;
-}
+// A world's stored metrics as Python sees them: per metric name, one value per scene body.
+struct WorldMetrics {
+    std::vector<std::string> names;
+    std::map<std::string, std::vector<double>> values;
+
+    const std::vector<double>& of(const std::string& name) const {
+        const auto it = values.find(name);
+        if (it == values.end()) throw py::key_error("no metric '" + name + "' (the world has: " + joined(names) + ")");
+        return it->second;
+    }
+    static std::string joined(const std::vector<std::string>& names) {
+        std::string text;
+        for (const std::string& n : names) text += (text.empty() ? "" : ", ") + n;
+        return text;
+    }
+};
 
 // Rows of every per-body array: one per body of the library's scene now (a world made before
 // bodies were added has fewer tracks).
@@ -169,13 +173,32 @@ void bind_library(py::module_& m) {
     py::register_exception<LibraryError>(m, "LibraryError", PyExc_IOError);
     py::register_exception<CodecError>(m, "CodecError", PyExc_ValueError);
 
+    py::class_<RunHeader>(m, "LibraryHeader", "The run a library holds, as sampled (library/RunHeader.h).")
+        .def_readonly("scene_json", &RunHeader::scene_json, "the scene the worlds were sampled in")
+        .def_readonly("base_seed", &RunHeader::base_seed)
+        .def_property_readonly("position_error_max_m", [](const RunHeader& h) { return h.bounds.position_error_max_m; })
+        .def_property_readonly("rotation_error_max_rad", [](const RunHeader& h) { return h.bounds.rotation_error_max_rad; })
+        .def_property_readonly("scene_hash", [](const RunHeader& h) { return scene_hash(h); })
+        .def_property_readonly("run_hash", [](const RunHeader& h) { return run_hash(h); })
+        .def_readonly("engine_build", &RunHeader::engine_build, "empty in libraries made before builds were recorded")
+        .def_readonly("parameters", &RunHeader::parameters);
+
+    py::class_<WorldMetrics>(m, "WorldMetrics", "A world's stored metrics: per name, one value per scene body.")
+        .def_readonly("names", &WorldMetrics::names, "in stored order")
+        .def("__getitem__", &WorldMetrics::of, py::arg("name"), "per-body values of one metric (KeyError: no such metric)")
+        .def("__contains__", [](const WorldMetrics& w, const std::string& name) { return w.values.count(name) > 0; })
+        .def("get", [](const WorldMetrics& w, const std::string& name, std::vector<double> otherwise) {
+            const auto it = w.values.find(name);
+            return it == w.values.end() ? otherwise : it->second;
+        }, py::arg("name"), py::arg("otherwise") = std::vector<double>{});
+
     py::class_<PyLibrary>(m, "Library", "A .mwb library file: run header, worlds (compressed in memory), rejections.")
         .def(py::init<const std::string&, double>(), py::arg("path"), py::arg("polyline_hz") = 30.0,
              py::call_guard<py::gil_scoped_release>(),
              "Open a library; every world is decoded once on load to derive its polyline at polyline_hz.")
         .def_property_readonly("path", [](const PyLibrary& l) { return l.reader().path(); })
-        .def_property_readonly("header", [](const PyLibrary& l) { return header_dict(l.reader().header()); },
-                               "the run as sampled; header['scene_json'] is the scene the worlds were sampled in")
+        .def_property_readonly("header", [](const PyLibrary& l) { return l.reader().header(); },
+                               "the run as sampled (LibraryHeader); its scene_json is the scene the worlds were sampled in")
         .def_property_readonly("scene_json", [](const PyLibrary& l) { return l.reader().scene_json(); },
                                "the library's scene now: the sampled scene plus bodies added to worlds since, "
                                "appended (a body's index never changes); grows on poll()")
@@ -257,13 +280,16 @@ void bind_library(py::module_& m) {
              py::arg("world"), "list of (time_s, body, other, impulse_ns)")
         .def("metrics",
              [](const PyLibrary& l, uint64_t w) {
-                 py::dict out;
+                 WorldMetrics out;
                  const StoredWorld& world = l.world(w);
-                 for (const MetricValues& m : world.metrics)
-                     out[py::str(m.name)] = per_body<double>(l, world, 0.0, [&](const StoredTrack&, size_t t) { return m.per_body[t]; });
+                 for (const MetricValues& m : world.metrics) {
+                     out.names.push_back(m.name);
+                     out.values[m.name] =
+                         per_body<double>(l, world, 0.0, [&](const StoredTrack&, size_t t) { return m.per_body[t]; });
+                 }
                  return out;
              },
-             py::arg("world"), "metric name -> per-body values (0 for absent bodies)")
+             py::arg("world"), "The world's stored metrics (WorldMetrics): per name, per-body values (0 for absent bodies)")
         .def("world_info", &world_info, py::arg("world"), "Where a world came from and what it holds (WorldInfo).");
 
     m.def(

@@ -5,6 +5,7 @@
 #include "PyLibrary.h"
 #include "geometry/ShapeBounds.h"
 #include "library/WorldDecoding.h"
+#include "query/GoalScore.h"
 #include "query/PathIndex.h"
 #include "query/RankingMetrics.h"
 #include "query/ScreenBox.h"
@@ -15,6 +16,17 @@ namespace py = pybind11;
 
 namespace mwb::python {
 namespace {
+
+// A ranking as Python sees it: two arrays of one length.
+struct Ranking {
+    std::vector<uint64_t> world_indices;
+    std::vector<double> values;
+};
+
+template <typename T>
+py::array_t<T> as_numpy(const std::vector<T>& values) {
+    return py::array_t<T>(static_cast<py::ssize_t>(values.size()), values.data());
+}
 
 Matrix4 to_matrix(const py::array_t<double, py::array::c_style | py::array::forcecast>& m, const char* name) {
     if (m.ndim() != 2 || m.shape(0) != 4 || m.shape(1) != 4)
@@ -76,6 +88,31 @@ void bind_query(py::module_& m) {
         .def_readonly("swept", &QueryBox::swept)
         .def_readonly("after", &QueryBox::after);
 
+    py::class_<QueryResult>(m, "QueryResult", "What a query of boxes found, over every indexed world.")
+        .def_property_readonly("world_indices", [](const QueryResult& r) { return as_numpy(r.world_indices); },
+                               "uint64: every indexed world, in world-index order")
+        .def_property_readonly("boxes_satisfied", [](const QueryResult& r) { return as_numpy(r.boxes_satisfied); },
+                               "uint32, per world of world_indices: the boxes it meets")
+        .def_property_readonly("matching", [](const QueryResult& r) { return as_numpy(r.matching); },
+                               "uint64: the worlds meeting every box")
+        .def_readonly("superseded", &QueryResult::superseded, "a newer query was posted; the rest is incomplete");
+
+    py::class_<Ranking>(m, "Ranking", "Worlds sorted by a metric.")
+        .def_property_readonly("world_indices", [](const Ranking& r) { return as_numpy(r.world_indices); }, "uint64")
+        .def_property_readonly("values", [](const Ranking& r) { return as_numpy(r.values); },
+                               "float64, per world of world_indices");
+
+    py::class_<GoalScore>(m, "GoalScore", "How far a world gets towards a goal (query/GoalScore.h).")
+        .def_readonly("boxes_met", &GoalScore::boxes_met, "along the goal's order")
+        .def_property_readonly("met", [](const GoalScore& g) { return std::vector<bool>(g.met.begin(), g.met.end()); },
+                               "per box")
+        .def_readonly("met_time_s", &GoalScore::met_time_s)
+        .def_readonly("first_unmet", &GoalScore::first_unmet, "-1: every box is met")
+        .def_readonly("closeness", &GoalScore::closeness, "to the first unmet box, in [0, 1)")
+        .def_property_readonly("value", &GoalScore::value, "boxes_met + closeness")
+        .def_readonly("failure_time_s", &GoalScore::failure_time_s)
+        .def_readonly("failing_bodies", &GoalScore::failing_bodies);
+
     py::class_<PathIndex>(m, "PathIndex", "Body paths of many worlds in OBB trees, for box queries and rankings.")
         .def(py::init<std::vector<double>>(), py::arg("body_radii_m"),
              "body_radii_m: per scene body, a radius around the object origin bounding its shape")
@@ -110,15 +147,10 @@ void bind_query(py::module_& m) {
                 } catch (const std::invalid_argument& error) {
                     throw py::value_error(error.what());
                 }
-                py::dict d;
-                d["superseded"] = result.superseded;
-                d["world_indices"] = py::array_t<uint64_t>(result.world_indices.size(), result.world_indices.data());
-                d["boxes_satisfied"] = py::array_t<uint32_t>(result.boxes_satisfied.size(), result.boxes_satisfied.data());
-                d["matching"] = py::array_t<uint64_t>(result.matching.size(), result.matching.data());
-                return d;
+                return result;
             },
             py::arg("boxes"), py::arg("generation") = 0, py::arg("brute_force") = false,
-            "Evaluate boxes (AND; ordered boxes in their order). Returns world_indices, boxes_satisfied (per world), matching, superseded.\n"
+            "Evaluate boxes (AND; ordered boxes in their order): a QueryResult.\n"
             "Runs with the GIL released; a later post_generation(g) with g > generation stops it early.")
         .def("post_generation", &PathIndex::post_generation, py::arg("generation"))
         .def(
@@ -139,41 +171,26 @@ void bind_query(py::module_& m) {
                 } catch (const std::invalid_argument& error) {
                     throw py::value_error(error.what());
                 }
-                py::array_t<uint64_t> ids(ranked.size());
-                py::array_t<double> values(ranked.size());
-                for (size_t k = 0; k < ranked.size(); ++k) {
-                    ids.mutable_at(k) = ranked[k].first;
-                    values.mutable_at(k) = ranked[k].second;
+                Ranking ranking;
+                for (const auto& [world, value] : ranked) {
+                    ranking.world_indices.push_back(world);
+                    ranking.values.push_back(value);
                 }
-                return py::make_tuple(ids, values);
+                return ranking;
             },
             py::arg("metric"), py::arg("bodies"), py::arg("combine") = "sum", py::arg("descending") = false,
             py::arg("only") = py::none(), py::arg("goals") = py::none(), py::arg("boxes") = py::none(),
-            "Worlds sorted by a metric over bodies: (world ids uint64, values float64). boxes_met needs `boxes`.")
+            "Worlds sorted by a metric over bodies: a Ranking. boxes_met needs `boxes`.")
         .def(
             "score",
             [](const PathIndex& index, uint64_t world, const std::vector<QueryBox>& boxes) {
-                GoalScore score;
                 try {
-                    score = index.score(world, boxes, goal_order(boxes));
+                    return index.score(world, boxes, goal_order(boxes));
                 } catch (const std::invalid_argument& error) {
                     throw py::value_error(error.what());
                 }
-                py::dict d;
-                d["boxes_met"] = score.boxes_met;
-                d["met"] = std::vector<bool>(score.met.begin(), score.met.end());
-                d["met_time_s"] = score.met_time_s;
-                d["first_unmet"] = score.first_unmet;
-                d["closeness"] = score.closeness;
-                d["value"] = score.value();
-                d["failure_time_s"] = score.failure_time_s;
-                d["failing_bodies"] = score.failing_bodies;
-                return d;
             },
-            py::arg("world"), py::arg("boxes"),
-            "How far a world gets towards the goal `boxes`: boxes_met (along the order), met, met_time_s,\n"
-            "first_unmet (-1: all met), closeness to it in [0, 1), value = boxes_met + closeness,\n"
-            "failure_time_s and failing_bodies (where and who missed it).")
+            py::arg("world"), py::arg("boxes"), "How far a world gets towards the goal `boxes`: a GoalScore.")
         .def(
             "first_time_inside",
             [](const PathIndex& index, uint64_t world, const std::vector<uint32_t>& bodies, const QueryBox& box) {

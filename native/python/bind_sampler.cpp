@@ -67,6 +67,11 @@ py::dict checkpoint_as_dict(const Checkpoint& c, double step_hz) {
     return d;
 }
 
+struct RefineResult {
+    std::vector<uint64_t> children;
+    uint64_t stored = 0, rejected = 0;
+};
+
 const char* status_name(WorldStatus s) {
     switch (s) {
         case WorldStatus::Ok: return "ok";
@@ -140,6 +145,10 @@ void bind_sampler(py::module_& m) {
         "For scripting and tests: bulk sampling from Blender runs the mwb-engine executable instead.");
 
     py::register_exception<RefineError>(m, "RefineError", PyExc_ValueError);
+    py::class_<RefineResult>(m, "RefineResult", "What a refinement in this process made.")
+        .def_readonly("children", &RefineResult::children, "the new worlds' indices")
+        .def_readonly("stored", &RefineResult::stored)
+        .def_readonly("rejected", &RefineResult::rejected);
     m.def(
         "refine_stored_world",
         [](const std::string& library, uint64_t world, std::vector<uint32_t> bodies, double branch_time_s,
@@ -155,15 +164,17 @@ void bind_sampler(py::module_& m) {
             const LibraryReader reader(library);
             LibraryWriter writer(library, reader.header());
             const RefineOutcome outcome = refine_stored_world(reader, request, writer);
-            std::vector<uint64_t> children;
-            for (uint64_t k = 0; k < count; ++k) children.push_back(outcome.first_child + k);
-            return std::make_tuple(children, outcome.statistics.worlds_ok, outcome.statistics.worlds_rejected);
+            RefineResult result;
+            for (uint64_t k = 0; k < count; ++k) result.children.push_back(outcome.first_child + k);
+            result.stored = outcome.statistics.worlds_ok;
+            result.rejected = outcome.statistics.worlds_rejected;
+            return result;
         },
         py::arg("library"), py::arg("world"), py::arg("bodies"), py::arg("branch_time_s"), py::arg("count"),
         py::arg("threads") = 0, py::arg("first_child") = -1,
         "Refine a stored world in this process (GIL released): append `count` children of `world` that re-simulate\n"
-        "`bodies` from branch_time_s (snapped down to a recorded frame) to the library file. Returns\n"
-        "(child world indices, stored, rejected). Raises RefineError when the request does not fit the library.");
+        "`bodies` from branch_time_s (snapped down to a recorded frame) to the library file. Returns a\n"
+        "RefineResult. Raises RefineError when the request does not fit the library.");
 
     m.def(
         "sample_tracks",

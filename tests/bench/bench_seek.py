@@ -233,7 +233,7 @@ def main():
         library = _native.Library(library_path)
         index = _native.PathIndex(_native.body_bounding_radii(_native.Scene.from_json(library.scene_json)))
         index.add_library(library)
-        matching = set(int(w) for w in index.query(query_boxes(goal, library))["matching"])
+        matching = set(int(w) for w in index.query(query_boxes(goal, library)).matching)
         reached = bool(outcome["reached"]) and all(w in matching for w in outcome["found"])
         worlds = FIRST_BATCH + outcome["worlds_made"]
         lineage = len(library.world_info(outcome["best"]).lineage) if outcome["best"] in set(

@@ -21,8 +21,8 @@ FLOAT_SLACK_M = 2e-5
 def raw_world(world):
     """Re-simulate one world in-process from the library's own header (same scene, parameters, seed)."""
     header = SESSION.view.library.header
-    scene = _native.Scene.from_json(header["scene_json"])
-    (result,) = _native.sample(scene, header["parameters"], header["base_seed"], world, 1, threads=1)
+    scene = _native.Scene.from_json(header.scene_json)
+    (result,) = _native.sample(scene, header.parameters, header.base_seed, world, 1, threads=1)
     return scene.body_names, result.positions, result.orientations, result.record_hz
 
 

@@ -34,13 +34,13 @@ def rect_at(world, frame, half_px):
 def direct_matches(rects_and_afters):
     """Box0 boxes (rect, after) queried on a PathIndex built here from the library file itself."""
     library = _native.Library(SESSION.view.path)
-    scene = _native.Scene.from_json(library.header["scene_json"])
+    scene = _native.Scene.from_json(library.header.scene_json)
     index = _native.PathIndex(_native.body_bounding_radii(scene))
     index.add_library(library)
     box0 = scene.body_names.index("Box0")
     boxes = [_native.QueryBox(VIEW, PROJECTION, SIZE, rect, bodies=[box0], after=after)
              for rect, after in rects_and_afters]
-    return {int(w) for w in index.query(boxes)["matching"]}
+    return {int(w) for w in index.query(boxes).matching}
 
 
 @pytest.fixture

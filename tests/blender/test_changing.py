@@ -100,7 +100,7 @@ def test_an_added_ball_exists_in_the_children_and_only_what_it_touches_changes(d
     library = view.library
     # The library's current scene has the ball appended; the header keeps the scene as sampled.
     assert view.body_names == ["Domino", "Far", "Ground", "Ball"] and library.body_count == 4
-    assert "Ball" not in library.header["scene_json"]
+    assert "Ball" not in library.header.scene_json
     # The sampled scene's file is untouched; the ball was exported to a file of its own.
     with open(sampled_json) as f:
         assert f.read() == sampled_scene

@@ -40,14 +40,14 @@ def matching_worlds():
 def direct_matches(boxes):
     """The same boxes queried on a PathIndex built here from the library file itself."""
     library = _native.Library(SESSION.view.path)
-    scene = _native.Scene.from_json(library.header["scene_json"])
+    scene = _native.Scene.from_json(library.header.scene_json)
     index = _native.PathIndex(_native.body_bounding_radii(scene))
     index.add_library(library)
     native_boxes = [_native.QueryBox(VIEW, PROJECTION, SIZE, rect, negative=negative,
                                      bodies=[scene.body_names.index(n) for n in names], time_window=window)
                     for rect, negative, names, window in boxes]
     result = index.query(native_boxes)
-    return {int(w) for w in result["matching"]}, result
+    return {int(w) for w in result.matching}, result
 
 
 def end_rect(world, body="Box0", half_px=20):
@@ -77,7 +77,7 @@ def test_a_box_matches_a_direct_index_query_and_the_decoded_paths(sampled):
     assert world in ours and 0 < len(ours) < len(view.world_indices), "the box should split the worlds"
     # The index answers in world order, the view in file order: the mapping must not mix worlds up.
     lq = scene_boxes.library_query()
-    for w, satisfied in zip(result["world_indices"], result["boxes_satisfied"]):
+    for w, satisfied in zip(result.world_indices, result.boxes_satisfied):
         assert lq.result.boxes_satisfied[view.world_indices.index(int(w))] == satisfied
 
     # Brute force on the decoded paths (full rate): a point well inside means a match, a world

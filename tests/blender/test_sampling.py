@@ -31,8 +31,8 @@ def test_sample_writes_a_library_next_to_the_blend_and_lists_its_worlds(tmp_path
 
     # Read back independently of the add-on: the boxes fell from where the scene put them.
     library = _native.Library(library_path)
-    assert library.header["base_seed"] == 7
-    names = [b for b in _native.Scene.from_json(library.header["scene_json"]).body_names]
+    assert library.header.base_seed == 7
+    names = [b for b in _native.Scene.from_json(library.header.scene_json).body_names]
     for box in boxes:
         i = names.index(box.name)
         for w in library.world_indices:

@@ -114,10 +114,10 @@ def test_the_full_index_answers_as_every_segment_does_without_copying_the_paths(
     for boxes in ([keep], [reject], [keep, reject]):
         tree = index.query(boxes)
         brute = index.query(boxes, brute_force=True)
-        assert np.array_equal(tree["world_indices"], brute["world_indices"])
-        assert np.array_equal(tree["boxes_satisfied"], brute["boxes_satisfied"])
-        assert np.array_equal(tree["matching"], brute["matching"])
-        assert 0.1 * WORLDS < len(tree["matching"]) < 0.9 * WORLDS, len(tree["matching"])
+        assert np.array_equal(tree.world_indices, brute.world_indices)
+        assert np.array_equal(tree.boxes_satisfied, brute.boxes_satisfied)
+        assert np.array_equal(tree.matching, brute.matching)
+        assert 0.1 * WORLDS < len(tree.matching) < 0.9 * WORLDS, len(tree.matching)
     # The index keeps boxes, not points: less than half of what the 30 Hz paths take as float32,
     # where a copy of them at 16 bits (as the library keeps them) would take half on its own.
     points_bytes = sum(p.nbytes for p in sample) * 10

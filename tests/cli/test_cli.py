@@ -64,7 +64,7 @@ def native_library_metrics(library):
     sys.path.insert(0, os.path.join(ROOT, "addon"))
     from many_worlds import _native
     lib = _native.Library(str(library))
-    bodies = [i for i, b in enumerate(json.loads(lib.header["scene_json"])["bodies"])
+    bodies = [i for i, b in enumerate(json.loads(lib.header.scene_json)["bodies"])
               if b["type"] == "ACTIVE" and not b.get("kinematic", False)]
     totals = {w: sum(lib.metrics(w)["path_length_m"][i] for i in bodies) for w in lib.world_indices}
     expected = sorted(totals, key=lambda w: -totals[w])

@@ -33,16 +33,16 @@ def test_engine_writes_a_library_the_module_reads(native, engine, tmp_path):
     lib = native.Library(str(out))
     assert sorted(lib.world_indices) == list(range(6))
     assert lib.warnings == []
-    scene = native.Scene.from_json(lib.header["scene_json"])
+    scene = native.Scene.from_json(lib.header.scene_json)
     w = lib.world_indices[0]
     positions = lib.positions(w)
     assert positions.shape == (len(scene.body_names), lib.frame_count(w), 3)
     location, rotation = lib.pose(w, 2, lib.frame_count(w) - 1)
     np.testing.assert_array_equal(location, positions[2, -1])
     # The decoded motion is the sampled motion within the codec bound.
-    direct = native.sample(scene, lib.header["parameters"], 4, w, 1, threads=1)[0]
+    direct = native.sample(scene, lib.header.parameters, 4, w, 1, threads=1)[0]
     error = np.linalg.norm(positions - direct.positions, axis=2).max()
-    assert 0 < error <= lib.header["position_error_max_m"]
+    assert 0 < error <= lib.header.position_error_max_m
 
 
 def test_engine_run_can_be_extended_later_without_recomputing(native, engine, tmp_path):
@@ -178,7 +178,7 @@ def test_engine_user_mistakes_are_one_clear_line(engine, tmp_path, args, phrase)
 def test_refined_worlds_store_only_what_changed_and_read_back_whole(native, engine, tmp_path):
     out = tmp_path / "refine.mwb"
     sample(engine, out, "--worlds", "0:3")
-    scene = native.Scene.from_json(native.Library(str(out)).header["scene_json"])
+    scene = native.Scene.from_json(native.Library(str(out)).header.scene_json)
     die = scene.body_names.index("Die")
     result = run_engine(engine, "refine", "--library", str(out), "--world", "1", "--bodies", str(die),
                         "--time", "1.0", "--count", "4", "--threads", "2")
@@ -194,7 +194,7 @@ def test_refined_worlds_store_only_what_changed_and_read_back_whole(native, engi
         assert changed[die]
         positions = lib.positions(child)
         assert positions.shape[0] == len(scene.body_names)
-        bound = lib.header["position_error_max_m"]
+        bound = lib.header.position_error_max_m
         # Before the branch every body is where the parent was (both decoded within the bound).
         branch = 120
         assert np.abs(positions[:, :branch + 1] - parent_positions[:, :branch + 1]).max() <= 2 * bound
@@ -236,7 +236,7 @@ def test_bodies_added_to_and_removed_from_worlds(native, engine, tmp_path):
     out = tmp_path / "changes.mwb"
     sample(engine, out, "--worlds", "0:2")
     sampled = native.Library(str(out))
-    names = native.Scene.from_json(sampled.header["scene_json"]).body_names
+    names = native.Scene.from_json(sampled.header.scene_json).body_names
     chute, die = names.index("Chute"), names.index("Die")
     result = run_engine(engine, "refine", "--library", str(out), "--world", "0", "--add", "Pebble",
                         "--scene", scene_with_pebble(tmp_path), "--count", "2", "--threads", "2")
@@ -245,7 +245,7 @@ def test_bodies_added_to_and_removed_from_worlds(native, engine, tmp_path):
     assert result.returncode == 0, result.stderr
     lib = native.Library(str(out))
     assert lib.warnings == []
-    assert lib.header["scene_json"] == sampled.header["scene_json"], "the sampled scene stays as it was"
+    assert lib.header.scene_json == sampled.header.scene_json, "the sampled scene stays as it was"
     pebble = len(names)
     assert lib.body_count == pebble + 1
     assert [b["name"] for b in json.loads(lib.scene_json)["bodies"]] == names + ["Pebble"]
@@ -254,7 +254,7 @@ def test_bodies_added_to_and_removed_from_worlds(native, engine, tmp_path):
     assert np.isnan(lib.positions(0)[pebble]).all() and np.isnan(lib.polyline(0)[pebble]).all()
     assert lib.metrics(0)["collision_count"][pebble] == 0
     parent = lib.positions(0)
-    bound = lib.header["position_error_max_m"]
+    bound = lib.header.position_error_max_m
     for child in (2, 3):
         assert lib.present(child) == [True] * (pebble + 1)
         assert lineage_tuples(lib.world_info(child)) == [(0.0, child, [], [pebble], [])]
@@ -277,9 +277,9 @@ def test_bodies_added_to_and_removed_from_worlds(native, engine, tmp_path):
     view, projection, size = look_at([0, -8, 3], [0, 0, 0]), perspective(0.9, 1.6, 0.1, 100), (1600, 1000)
     x, y = screen_of(view, projection, size, [0, 0, 0])
     box = native.QueryBox(view, projection, size, (x - 10, y - 10, x + 10, y + 10), bodies=[chute])
-    assert sorted(int(w) for w in index.query([box])["matching"]) == [0, 1, 2, 3]
+    assert sorted(int(w) for w in index.query([box]).matching) == [0, 1, 2, 3]
     far = native.QueryBox(view, projection, size, (x - 10, y - 10, x + 10, y + 10), bodies=[pebble])
-    assert list(index.query([far])["matching"]) == [], "no world has the pebble there"
+    assert list(index.query([far]).matching) == [], "no world has the pebble there"
     # Adding the pebble again to another world reuses its index; a changed pebble is refused.
     result = run_engine(engine, "refine", "--library", str(out), "--world", "1", "--add", "Pebble",
                         "--scene", scene_with_pebble(tmp_path), "--count", "1")
@@ -345,12 +345,13 @@ def test_refinement_in_this_process_equals_the_engines(native, engine, tmp_path)
     # One thread: worlds are stored as they finish, so only then is the file order fixed too.
     sample(engine, by_engine, "--worlds", "0:3", "--threads", "1")
     sample(engine, in_process, "--worlds", "0:3", "--threads", "1")
-    die = native.Scene.from_json(native.Library(str(by_engine)).header["scene_json"]).body_names.index("Die")
+    die = native.Scene.from_json(native.Library(str(by_engine)).header.scene_json).body_names.index("Die")
     assert native.Library(str(in_process)).next_world_index == 3
     result = run_engine(engine, "refine", "--library", str(by_engine), "--world", "1", "--bodies", str(die),
                         "--time", "1.0", "--count", "3", "--threads", "1")
     assert result.returncode == 0, result.stderr
-    children, stored, rejected = native.refine_stored_world(str(in_process), 1, [die], 1.0, 3, threads=1)
+    refined = native.refine_stored_world(str(in_process), 1, [die], 1.0, 3, threads=1)
+    children, stored, rejected = refined.children, refined.stored, refined.rejected
     assert children == [3, 4, 5] and (stored, rejected) == (3, 0)
     assert by_engine.read_bytes() == in_process.read_bytes()
     assert native.Library(str(in_process)).next_world_index == 6

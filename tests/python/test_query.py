@@ -20,7 +20,7 @@ def sampled(native, engine, tmp_path_factory):
                         "--seed", "8", "--worlds", "0:40", "--threads", "2")
     assert result.returncode == 0, result.stderr
     lib = native.Library(str(out))
-    scene = native.Scene.from_json(lib.header["scene_json"])
+    scene = native.Scene.from_json(lib.header.scene_json)
     index = native.PathIndex(native.body_bounding_radii(scene))
     assert index.add_library(lib) == 40
     assert index.add_library(lib) == 0, "indexing again adds nothing"
@@ -37,18 +37,18 @@ def test_box_around_where_a_path_ends_matches_exactly_the_worlds_ending_there(na
     x, y = screen_of(view, projection, size, ends[some_world])
     box = native.QueryBox(view, projection, size, (x - 15, y - 15, x + 15, y + 15), bodies=[marble])
     result = index.query([box])
-    assert some_world in result["matching"]
+    assert some_world in result.matching
     # Every match really has a marble path point (decoded, full rate) near the box on screen.
-    for w in result["matching"]:
+    for w in result.matching:
         path = lib.positions(int(w))[marble]
         on_screen = np.array([screen_of(view, projection, size, p) for p in path[::4]])
         assert np.any((np.abs(on_screen[:, 0] - x) < 25) & (np.abs(on_screen[:, 1] - y) < 25))
     negative = native.QueryBox(view, projection, size, (x - 15, y - 15, x + 15, y + 15), negative=True, bodies=[marble])
     both = index.query([box, negative])
-    assert len(both["matching"]) == 0
+    assert len(both.matching) == 0
     flipped = index.query([negative])
-    assert set(flipped["matching"]) == set(lib.world_indices) - set(result["matching"])
-    assert list(result["boxes_satisfied"]).count(1) == len(result["matching"])
+    assert set(flipped.matching) == set(lib.world_indices) - set(result.matching)
+    assert list(result.boxes_satisfied).count(1) == len(result.matching)
 
 
 def test_tree_and_brute_force_agree_on_sampled_worlds(native, sampled):
@@ -62,21 +62,23 @@ def test_tree_and_brute_force_agree_on_sampled_worlds(native, sampled):
                               negative=bool(rng.integers(2)), bodies=bodies, swept=bool(rng.integers(2)),
                               time_window=None if rng.integers(2) else (0.5, 2.0))
         fast, slow = index.query([box]), index.query([box], brute_force=True)
-        np.testing.assert_array_equal(fast["matching"], slow["matching"])
+        np.testing.assert_array_equal(fast.matching, slow.matching)
 
 
 def test_ranking_by_stored_metrics(native, sampled):
     lib, scene, index = sampled
     die = scene.body_names.index("Die")
-    ids, values = index.rank("angular_travel_rad", [die], descending=True)
+    ranking = index.rank("angular_travel_rad", [die], descending=True)
+    ids, values = ranking.world_indices, ranking.values
     assert len(ids) == 40 and np.all(np.diff(values) <= 0)
     assert values[0] == pytest.approx(lib.metrics(int(ids[0]))["angular_travel_rad"][die])
     top_three = ids[:3].tolist()
-    ids, values = index.rank("collision_count", [die, die + 1], combine="max", only=top_three)
+    ranking = index.rank("collision_count", [die, die + 1], combine="max", only=top_three)
+    ids, values = ranking.world_indices, ranking.values
     assert sorted(ids.tolist()) == sorted(top_three)
     expected = [max(lib.metrics(int(w))["collision_count"][die:die + 2]) for w in ids]
     np.testing.assert_array_equal(values, expected)
-    upright = index.rank("orientation_to_goal_rad", [die], goals=[(1, 0, 0, 0)])[1]
+    upright = index.rank("orientation_to_goal_rad", [die], goals=[(1, 0, 0, 0)]).values
     assert np.all((upright >= 0) & (upright <= math.pi + 1e-9))
 
 
@@ -114,7 +116,7 @@ def test_worlds_and_refined_children_hold_their_rest_pose_to_the_runs_end(native
     assert run_engine(engine, "sample", "--scene", str(die_scene), "--out", str(out), "--seed", "8",
                       "--worlds", "0:6", "--duration", "8").returncode == 0
     lib = native.Library(str(out))
-    scene = native.Scene.from_json(lib.header["scene_json"])
+    scene = native.Scene.from_json(lib.header.scene_json)
     die = scene.body_names.index("Die")
     result = run_engine(engine, "refine", "--library", str(out), "--world", "2", "--bodies", str(die),
                         "--time", "1.0", "--count", "6")
@@ -138,8 +140,8 @@ def test_worlds_and_refined_children_hold_their_rest_pose_to_the_runs_end(native
                 negative = native.QueryBox(view, projection, size, rect, negative=True, bodies=[body], swept=swept,
                                            time_window=(run_end_s - 0.05, run_end_s))
                 for brute_force in (False, True):
-                    assert w in index.query([box], brute_force=brute_force)["matching"], (w, body, swept)
-                    assert w not in index.query([negative], brute_force=brute_force)["matching"], (w, body, swept)
+                    assert w in index.query([box], brute_force=brute_force).matching, (w, body, swept)
+                    assert w not in index.query([negative], brute_force=brute_force).matching, (w, body, swept)
 
 
 def test_indexing_in_steps_takes_worlds_in_file_order_while_the_library_grows(native, engine, tmp_path):
@@ -156,7 +158,7 @@ def test_indexing_in_steps_takes_worlds_in_file_order_while_the_library_grows(na
     assert index.add_library(lib, threads=1, limit=7) == 7
     box_all = native.QueryBox(look_at([0, -10, 5], [0, 0, 0.5]), perspective(0.9, 1.6, 0.1, 100), (1600, 1000),
                               (0, 0, 1600, 1000), bodies=[2, 3, 4, 5])
-    assert list(index.query([box_all])["world_indices"]) == sorted(lib.world_indices[:7])
+    assert list(index.query([box_all]).world_indices) == sorted(lib.world_indices[:7])
 
     engine_run = subprocess.Popen([engine, "sample", "--scene", scene_path, "--out", str(out), "--seed", "8",
                                    "--worlds", "30:90", "--threads", "1"], stdout=subprocess.DEVNULL)
@@ -189,5 +191,5 @@ def test_indexing_in_steps_takes_worlds_in_file_order_while_the_library_grows(na
         x0, y0 = rng.uniform(0, 1400), rng.uniform(0, 800)
         box = native.QueryBox(view, projection, size, (x0, y0, x0 + 200, y0 + 200), bodies=[2, 3])
         got, expected = index.query([box]), whole.query([box])
-        assert np.array_equal(got["world_indices"], expected["world_indices"])
-        assert np.array_equal(got["matching"], expected["matching"])
+        assert np.array_equal(got.world_indices, expected.world_indices)
+        assert np.array_equal(got.matching, expected.matching)

@@ -32,7 +32,7 @@ DRAG_STEPS = 6
 def direct_query(region, rects_and_signs):
     """Matching worlds of the rectangles (region pixels) seen through the region's current view."""
     library = _native.Library(SESSION.view.path)
-    scene = _native.Scene.from_json(library.header["scene_json"])
+    scene = _native.Scene.from_json(library.header.scene_json)
     index = _native.PathIndex(_native.body_bounding_radii(scene))
     index.add_library(library)
     r3d = region.data
@@ -40,7 +40,7 @@ def direct_query(region, rects_and_signs):
     query = [_native.QueryBox(np.array(r3d.view_matrix), np.array(r3d.window_matrix), (region.width, region.height),
                               (min(x0, x1), min(y0, y1), max(x0, x1), max(y0, y1)), negative=negative, bodies=bodies)
              for (x0, y0, x1, y1), negative in rects_and_signs]
-    return {int(w) for w in index.query(query)["matching"]}
+    return {int(w) for w in index.query(query).matching}
 
 
 def matching_now():

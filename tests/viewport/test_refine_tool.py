@@ -46,7 +46,7 @@ def rect_on_path(region, world, body, time_s):
 
 def direct_first_time(region, world, body, rect):
     library = _native.Library(SESSION.view.path)
-    scene = _native.Scene.from_json(library.header["scene_json"])
+    scene = _native.Scene.from_json(library.header.scene_json)
     index = _native.PathIndex(_native.body_bounding_radii(scene))
     index.add_library(library)
     box = _native.QueryBox(np.array(region.data.view_matrix), np.array(region.data.window_matrix),

@@ -273,14 +273,14 @@ class LibraryQuery:
         self.index.post_generation(self.generation)
         raw = self.index.query(boxes, generation=self.generation)
         # The index answers in world-index order; the view (and drawing) uses file order.
-        ids = np.asarray(raw["world_indices"], dtype=np.uint64)
-        satisfied_sorted = np.asarray(raw["boxes_satisfied"], dtype=np.uint32)
+        ids = np.asarray(raw.world_indices, dtype=np.uint64)
+        satisfied_sorted = np.asarray(raw.boxes_satisfied, dtype=np.uint32)
         satisfied = np.zeros(len(file_order), dtype=np.uint32)
         if len(ids):
             where = np.minimum(np.searchsorted(ids, file_order), len(ids) - 1)
             known = ids[where] == file_order
             satisfied[known] = satisfied_sorted[where[known]]
-        matching = np.isin(file_order, np.asarray(raw["matching"], dtype=np.uint64))
+        matching = np.isin(file_order, np.asarray(raw.matching, dtype=np.uint64))
         self.view.set_matching(matching)
         self.result = QueryResult(matching, satisfied, len(boxes), indexed=len(ids))
         return self.result
@@ -304,14 +304,13 @@ class LibraryQuery:
         self.sync()
         if metric_name(metric) == BOXES_MET:
             # Counted by the index, as its queries count them, over the boxes evaluated last.
-            ids, values = self.index.rank(BOXES_MET, [], descending=descending, boxes=self._boxes)
-            return np.asarray(ids, dtype=np.int64), np.asarray(values, dtype=np.float64)
+            ranking = self.index.rank(BOXES_MET, [], descending=descending, boxes=self._boxes)
+            return ranking.world_indices.astype(np.int64), ranking.values
         if not bodies:
             return np.zeros(0, np.int64), np.zeros(0)
         only = [int(w) for w, m in zip(self.view.world_indices, self.view.matching) if m]
         if metric == "orientation_to_goal_rad" and goals is None:
             # The object's unrotated pose is the goal: 'land upright' for a model built upright.
             goals = [(1.0, 0.0, 0.0, 0.0)] * len(bodies)
-        ids, values = self.index.rank(metric, list(bodies), combine=combine, descending=descending,
-                                      only=only, goals=goals)
-        return np.asarray(ids, dtype=np.int64), np.asarray(values, dtype=np.float64)
+        ranking = self.index.rank(metric, list(bodies), combine=combine, descending=descending, only=only, goals=goals)
+        return ranking.world_indices.astype(np.int64), ranking.values
