@@ -1,0 +1,59 @@
+#pragma once
+// The worlds a goal search has seen, scored against the goal, best first; and the beam of those
+// it refines next.
+#include <cstdint>
+#include <set>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "library/LibraryReader.h"
+#include "query/GoalScore.h"
+#include "query/PathIndex.h"
+#include "scene/Scene.h"
+
+namespace mwb {
+
+class ScoredWorlds {
+public:
+    /// Scores the worlds `reader` reads (polylines on) against `boxes`; `threads` index them.
+    ScoredWorlds(LibraryReader& reader, const Scene& scene, const std::vector<QueryBox>& boxes, int threads);
+
+    /// Reads the worlds appended to the library since the last call and scores them, in world
+    /// index order (the same on any thread count).
+    void take_new_worlds();
+
+    bool empty() const { return ranking_.empty(); }
+    bool has(uint64_t world) const { return scores_.count(world) > 0; }
+    const GoalScore& score(uint64_t world) const { return scores_.at(world); }
+    const StoredWorld& stored(uint64_t world) const { return reader_.worlds()[position_.at(world)]; }
+    /// The world meeting most of the goal (0 while there is none).
+    uint64_t best_world() const { return ranking_.empty() ? 0 : ranking_.begin()->second; }
+    double best_value() const { return ranking_.empty() ? 0.0 : -ranking_.begin()->first; }
+    /// Every world meeting the whole goal.
+    const std::set<uint64_t>& found() const { return found_; }
+    /// A world no refinement of which is worth trying any more.
+    void spend(uint64_t world) { spent_.insert(world); }
+
+    /// The best worlds not yet met or spent, best first (ties: lower index), at most
+    /// `per_family` from one sampled world's family, then the best of the rest if the beam is
+    /// not full; at most `width`.
+    std::vector<uint64_t> choose_beam(uint32_t width, uint32_t per_family) const;
+
+private:
+    // The sampled world `world` descends from (itself if sampled).
+    uint64_t family_of(uint64_t world) const;
+
+    LibraryReader& reader_;
+    const std::vector<QueryBox>& boxes_;
+    std::vector<size_t> order_;
+    PathIndex index_;
+    int threads_;
+    std::unordered_map<uint64_t, size_t> position_;  ///< world index -> position in reader_.worlds()
+    std::unordered_map<uint64_t, GoalScore> scores_;
+    std::set<std::pair<double, uint64_t>> ranking_;  ///< (-value, world index): best first
+    std::set<uint64_t> found_, spent_;
+    std::set<long long> seen_values_;
+};
+
+}  // namespace mwb
