@@ -1,12 +1,19 @@
-"""Benchmark: goal search on an example, with the goal its README states in full.
+"""Benchmark: goal search on an example, with the goal its README states in full, from several
+first batches, so that one lucky (or unlucky) start does not decide the figure.
 
     blender -b blend_examples/NAME/NAME.blend --python tests/bench/bench_seek.py [-- BUDGET_WORLDS [BUDGET_S]]
 
-Exports the scene, samples a first batch of worlds as a user would, then runs `mwb-engine seek`
-with the example's goal boxes (drawn in the scene camera's view, or in a top view for footprints)
-until one world meets them all or the budget is spent. The world it reports is checked again here
-with the browser's own query. Prints a line per example and `BENCH seek_NAME_reached` (1/0),
-`BENCH seek_NAME_worlds` (worlds simulated, the first batch included) and `BENCH seek_NAME_s`.
+Exports the scene; then for each of MWB_SEEK_BATCHES first batches (default 5: base seeds 0 to 4,
+MWB_SEEK_FIRST_BATCH worlds each, default 32) samples the batch as a user would, counts the worlds
+of it that already meet the goal (the browser's own query), and runs `mwb-engine seek` with the
+example's goal boxes (drawn in the scene camera's view, or in a top view for footprints) until
+one world meets them all or the budget is spent. The world it reports is checked again with the
+browser's query. Prints a line per batch, then the median and the worst, and
+`BENCH seek_NAME_first_batch_met` (worlds of the first batches meeting the goal already, all
+batches together: 0 when the example tests a search), `BENCH seek_NAME_reached` (batches that
+reached it), `BENCH seek_NAME_worst_worlds`, `BENCH seek_NAME_worst_s`, and the medians
+`BENCH seek_NAME_worlds` and `BENCH seek_NAME_s` (worlds simulated and wall time, the first batch
+included).
 """
 import contextlib
 import json
@@ -31,6 +38,7 @@ from many_worlds.core import paths  # noqa: E402
 from many_worlds.export import export_and_validate  # noqa: E402
 
 FIRST_BATCH = int(os.environ.get("MWB_SEEK_FIRST_BATCH", 32))
+BATCHES = int(os.environ.get("MWB_SEEK_BATCHES", 5))
 ARGS = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 BUDGET_WORLDS = int(ARGS[0]) if ARGS else 20000
 BUDGET_S = float(ARGS[1]) if len(ARGS) > 1 else 600.0
@@ -201,6 +209,36 @@ def query_boxes(goal, library):
     return out
 
 
+def goal_matches(goal, library_path):
+    """The worlds of the library that meet the goal, by the browser's own query."""
+    library = _native.Library(library_path)
+    index = _native.PathIndex(_native.body_bounding_radii(_native.Scene.from_json(library.scene_json)))
+    index.add_library(library)
+    return library, set(int(w) for w in index.query(query_boxes(goal, library)).matching)
+
+
+def search_from(seed, scene_json, goal_path, goal, folder):
+    """Sample the first batch of base seed `seed`, then seek. Returns a dict of what happened."""
+    library_path = os.path.join(folder, f"seed{seed}.mwb")
+    if os.path.exists(library_path):
+        os.remove(library_path)
+    start = time.perf_counter()
+    engine("sample", "--scene", scene_json, "--out", library_path, "--worlds", f"0:{FIRST_BATCH}", "--seed", str(seed))
+    sampled_s = time.perf_counter() - start
+    _, first_met = goal_matches(goal, library_path)
+    out = engine("seek", "--library", library_path, "--goal", goal_path, "--want", "1", "--seed", str(seed),
+                 "--budget-worlds", str(BUDGET_WORLDS), "--budget-s", str(max(1.0, BUDGET_S - sampled_s)), "--json")
+    elapsed = time.perf_counter() - start
+    outcome = json.loads(out.strip().splitlines()[-1])
+    library, matching = goal_matches(goal, library_path)
+    reached = bool(outcome["reached"]) and all(w in matching for w in outcome["found"])
+    lineage = len(library.world_info(outcome["best"]).lineage) if outcome["best"] in set(
+        int(w) for w in library.world_indices) else 0
+    return {"seed": seed, "first_met": len(first_met), "reached": reached, "worlds": FIRST_BATCH + outcome["worlds_made"],
+            "s": elapsed, "best": outcome["best"], "best_boxes_met": outcome["best_boxes_met"], "boxes": outcome["boxes"],
+            "refinements": outcome["refinements"], "lineage": lineage}
+
+
 def main():
     name = os.path.splitext(os.path.basename(bpy.data.filepath))[0]
     if name not in GOALS:
@@ -210,40 +248,38 @@ def main():
     if result.scene is None or problems:
         raise SystemExit(f"{name}: cannot export: {problems}")
     goal = GOALS[name]()
-    # MWB_SEEK_KEEP=DIR keeps the scene, goal and library there for a closer look.
+    # MWB_SEEK_KEEP=DIR keeps the scene, goal and libraries there for a closer look.
     keep = os.environ.get("MWB_SEEK_KEEP")
     if keep:
         os.makedirs(keep, exist_ok=True)
-        if os.path.exists(os.path.join(keep, "lib.mwb")):
-            os.remove(os.path.join(keep, "lib.mwb"))
+    runs = []
     with contextlib.nullcontext(keep) if keep else tempfile.TemporaryDirectory() as folder:
-        scene_json, library_path, goal_path = (os.path.join(folder, f) for f in ("scene.json", "lib.mwb", "goal.json"))
+        scene_json, goal_path = (os.path.join(folder, f) for f in ("scene.json", "goal.json"))
         with open(scene_json, "w") as f:
             f.write(result.to_json())
         with open(goal_path, "w") as f:
             json.dump({"boxes": goal}, f)
-        start = time.perf_counter()
-        engine("sample", "--scene", scene_json, "--out", library_path, "--worlds", f"0:{FIRST_BATCH}")
-        sampled_s = time.perf_counter() - start
-        out = engine("seek", "--library", library_path, "--goal", goal_path, "--want", "1",
-                     "--budget-worlds", str(BUDGET_WORLDS), "--budget-s", str(max(1.0, BUDGET_S - sampled_s)), "--json")
-        elapsed = time.perf_counter() - start
-        outcome = json.loads(out.strip().splitlines()[-1])
-        # The browser's own query must agree that the world found meets the goal.
-        library = _native.Library(library_path)
-        index = _native.PathIndex(_native.body_bounding_radii(_native.Scene.from_json(library.scene_json)))
-        index.add_library(library)
-        matching = set(int(w) for w in index.query(query_boxes(goal, library)).matching)
-        reached = bool(outcome["reached"]) and all(w in matching for w in outcome["found"])
-        worlds = FIRST_BATCH + outcome["worlds_made"]
-        lineage = len(library.world_info(outcome["best"]).lineage) if outcome["best"] in set(
-            int(w) for w in library.world_indices) else 0
-    print(f"{name}: goal {'reached' if reached else 'not reached'}: best world {outcome['best']} meets "
-          f"{outcome['best_boxes_met']} of {outcome['boxes']} boxes ({lineage} refinements deep), "
-          f"{worlds} worlds, {outcome['refinements']} refine calls, {elapsed:.1f} s")
-    print(f"BENCH seek_{name}_reached {int(reached)}")
-    print(f"BENCH seek_{name}_worlds {worlds}")
-    print(f"BENCH seek_{name}_s {elapsed:.1f}")
+        for seed in range(BATCHES):
+            run = search_from(seed, scene_json, goal_path, goal, folder)
+            runs.append(run)
+            print(f"{name} seed {seed}: {run['first_met']} of the first {FIRST_BATCH} worlds meet the goal; "
+                  f"{'reached' if run['reached'] else 'not reached'}: best world {run['best']} meets "
+                  f"{run['best_boxes_met']} of {run['boxes']} boxes ({run['lineage']} refinements deep), "
+                  f"{run['worlds']} worlds, {run['refinements']} refine calls, {run['s']:.1f} s", flush=True)
+    worlds = sorted(r["worlds"] for r in runs)
+    seconds = sorted(r["s"] for r in runs)
+    reached = sum(r["reached"] for r in runs)
+    first_met = sum(r["first_met"] for r in runs)
+    median = len(runs) // 2
+    print(f"{name}: reached from {reached} of {len(runs)} first batches ({first_met} first-batch worlds met it "
+          f"already); worlds median {worlds[median]}, worst {worlds[-1]}; time median {seconds[median]:.1f} s, "
+          f"worst {seconds[-1]:.1f} s")
+    print(f"BENCH seek_{name}_first_batch_met {first_met}")
+    print(f"BENCH seek_{name}_reached {reached}")
+    print(f"BENCH seek_{name}_worlds {worlds[median]}")
+    print(f"BENCH seek_{name}_s {seconds[median]:.1f}")
+    print(f"BENCH seek_{name}_worst_worlds {worlds[-1]}")
+    print(f"BENCH seek_{name}_worst_s {seconds[-1]:.1f}")
 
 
 main()
