@@ -59,7 +59,7 @@ def corners(names, lift=0.0, pad=0.0):
     return points
 
 
-def camera_box(points, objects, *, negative=False, window=None, after=None):
+def camera_box(points, objects, *, negative=False, window=None, after=None, swept=False):
     """A goal box around world points as the scene camera sees them."""
     scene = bpy.context.scene
     view, projection, (width, height) = cli.camera_view(scene.camera.name)
@@ -68,10 +68,11 @@ def camera_box(points, objects, *, negative=False, window=None, after=None):
             max(p.x for p in screen) * width, max(p.y for p in screen) * height]
     return {"view": np.asarray(view).ravel().tolist(), "projection": np.asarray(projection).ravel().tolist(),
             "viewport": [width, height], "rect": rect, "objects": objects, "negative": negative,
-            "time_window": window, "after": after}
+            "time_window": window, "after": after, "swept": swept}
 
 
-def ortho_box(right, up, x0, y0, x1, y1, objects, *, half_size=6.0, negative=False, window=None, after=None):
+def ortho_box(right, up, x0, y0, x1, y1, objects, *, half_size=6.0, negative=False, window=None, after=None,
+              swept=False):
     """A goal box seen through an orthographic view (a square of half_size metres) whose screen x
     and y run along the world directions `right` and `up`: it holds every point whose coordinates
     along them lie in [x0, x1] × [y0, y1], at any depth."""
@@ -85,15 +86,16 @@ def ortho_box(right, up, x0, y0, x1, y1, objects, *, half_size=6.0, negative=Fal
     to_px = lambda v: (v * s + 1) / 2 * TOP_VIEW_SIZE  # noqa: E731
     return {"view": view, "projection": projection, "viewport": [TOP_VIEW_SIZE, TOP_VIEW_SIZE],
             "rect": [to_px(x0), to_px(y0), to_px(x1), to_px(y1)], "objects": objects, "negative": negative,
-            "time_window": window, "after": after}
+            "time_window": window, "after": after, "swept": swept}
 
 
-def top_box(x0, y0, x1, y1, objects, *, half_size=6.0, negative=False, window=None, after=None, turned=False):
+def top_box(x0, y0, x1, y1, objects, *, half_size=6.0, negative=False, window=None, after=None, turned=False,
+            swept=False):
     """A goal box seen from straight above, the view turned 45° about the vertical when `turned`."""
     c = math.sqrt(0.5)
     right, up = ((c, c, 0), (-c, c, 0)) if turned else ((1, 0, 0), (0, 1, 0))
     return ortho_box(right, up, x0, y0, x1, y1, objects, half_size=half_size, negative=negative, window=window,
-                     after=after)
+                     after=after, swept=swept)
 
 
 def fraction_box(fractions, objects, window):
@@ -102,7 +104,7 @@ def fraction_box(fractions, objects, window):
     x0, y0, x1, y1 = fractions
     return {"view": np.asarray(view).ravel().tolist(), "projection": np.asarray(projection).ravel().tolist(),
             "viewport": [width, height], "rect": [x0 * width, y0 * height, x1 * width, y1 * height],
-            "objects": objects, "negative": False, "time_window": window, "after": None}
+            "objects": objects, "negative": False, "time_window": window, "after": None, "swept": False}
 
 
 def quickstart_goal():
@@ -170,17 +172,18 @@ def spiral_staircase_goal():
 
 
 def trebuchet_tower_goal():
-    """The rock hits the tower, and no block touches a bystander."""
+    """The paper's full query: the rock hits the tower (a swept box over the tower: the rock's
+    shape, not its centre, must reach it while it flies in), and no falling block touches a
+    bystander (swept negative boxes on every block over each bystander's own footprint seen from
+    above, so a block whose shape reaches a bystander's, side-on or from above, fails the goal)."""
     blocks = [o.name for o in bpy.data.objects if o.name.startswith("Block")]
-    # The rock over the tower as the camera sees it, while it flies in (about 3 to 3.5 s).
-    boxes = [camera_box(corners(blocks), ["Rock"], window=[2.5, 4.5])]
+    boxes = [camera_box(corners(blocks), ["Rock"], window=[2.5, 4.5], swept=True)]
     # Seen from above, so the tower behind a bystander is not in its box.
     for k in (1, 2, 3):
         ob = bpy.data.objects[f"Bystander{k}"]
         xs = [(ob.matrix_world @ Vector(c)).x for c in ob.bound_box]
         ys = [(ob.matrix_world @ Vector(c)).y for c in ob.bound_box]
-        boxes.append(top_box(min(xs) - 0.05, min(ys) - 0.05, max(xs) + 0.05, max(ys) + 0.05, blocks, half_size=20.0,
-                             negative=True))
+        boxes.append(top_box(min(xs), min(ys), max(xs), max(ys), blocks, half_size=20.0, negative=True, swept=True))
     return boxes
 
 
@@ -205,7 +208,7 @@ def query_boxes(goal, library):
                                     tuple(b["viewport"]), tuple(b["rect"]), negative=b["negative"],
                                     bodies=[i for i, n in enumerate(names) if n in b["objects"]],
                                     time_window=tuple(b["time_window"]) if b["time_window"] else None,
-                                    after=-1 if b["after"] is None else b["after"]))
+                                    swept=b.get("swept", False), after=-1 if b["after"] is None else b["after"]))
     return out
 
 
