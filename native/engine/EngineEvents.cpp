@@ -1,11 +1,32 @@
 #include "EngineEvents.h"
 
+#include <cerrno>
 #include <iostream>
 #include <thread>
+#ifdef _WIN32
+#include <io.h>
+#else
+#include <unistd.h>
+#endif
 
 #include "common/BuildInfo.h"
 
 namespace mwb {
+namespace {
+
+int read_stdin(char* buffer, unsigned size) {
+#ifdef _WIN32
+    return ::_read(0, buffer, size);
+#else
+    for (;;) {
+        const ssize_t n = ::read(STDIN_FILENO, buffer, size);
+        if (n < 0 && errno == EINTR) continue;
+        return static_cast<int>(n);
+    }
+#endif
+}
+
+}  // namespace
 
 EngineEvents::EngineEvents(bool as_json, bool show_progress) : as_json_(as_json), show_progress_(show_progress) {}
 
@@ -76,10 +97,24 @@ void EngineEvents::summary(nlohmann::json fields, const std::string& text) {
 }
 
 void listen_for_cancel_on_stdin(std::atomic<bool>& cancel) {
+    // Raw reads, never std::cin or stdio: a thread blocked inside stdio holds the stream's lock,
+    // and fork() (the supervisor starting a worker) waits for every stdio lock: it would hang.
     std::thread([&cancel] {
         std::string line;
-        while (std::getline(std::cin, line))
-            if (line == "cancel" || line == "cancel\r") cancel.store(true);
+        char buffer[256];
+        for (;;) {
+            const auto n = read_stdin(buffer, sizeof buffer);
+            if (n <= 0) return;  // the program closed our stdin (or it is /dev/null): nothing to hear
+            for (int k = 0; k < n; ++k) {
+                if (buffer[k] != '\n') {
+                    if (line.size() < 64) line += buffer[k];
+                    continue;
+                }
+                if (!line.empty() && line.back() == '\r') line.pop_back();
+                if (line == "cancel") cancel.store(true);
+                line.clear();
+            }
+        }
     }).detach();
 }
 

@@ -145,3 +145,19 @@ def test_each_command_takes_only_its_own_options(engine, tmp_path):
     result, events = event_lines(engine, "seek", "--library", "l.mwb", "--goal", "g.json", "--budget-worlds", "3",
                                  "--frobnicate")
     assert events[-1]["message"] == "unknown option --frobnicate"
+
+
+def test_workers_restarted_mid_run_do_not_hang_a_run_that_listens_for_cancel(native, engine, tmp_path, monkeypatch):
+    """The supervisor forks a new worker for each world that crashed one, while the thread that
+    listens for "cancel" waits on stdin (left open, as the add-on leaves it): a listener inside
+    stdio would hold a lock fork() waits for, and the run would hang at the first crash."""
+    monkeypatch.setenv("MWB_ENGINE_TEST_FAULTS", "4:abort,9:segv,15:abort")
+    library = tmp_path / "faults.mwb"
+    started = engine_process.EngineRun(sample_request(library, count=24), engine)
+    try:
+        assert started.wait(120) == int(engine_process.EngineExit.OK)
+    finally:
+        started.kill()
+    summary = started.summary()
+    assert summary["rejected"] == 3 and summary["stored"] == 21, summary
+    assert sorted(native.Library(str(library)).world_indices) == [w for w in range(24) if w not in (4, 9, 15)]
