@@ -243,7 +243,6 @@ class _RunState:
     summary: Optional[dict] = None
     error: Optional[EngineFailure] = None
     warnings: list = field(default_factory=list)
-    worlds_rejected: int = 0
     log: list = field(default_factory=list)
 
 
@@ -278,8 +277,6 @@ class EngineRun:
 
     def _on_world(self, state, event):
         state.last_world = int(event["index"])
-        if not event["stored"]:
-            state.worlds_rejected += 1
 
     def _on_warning(self, state, event):
         state.warnings.append(str(event["message"]))

@@ -24,7 +24,7 @@ class RunKind(enum.Enum):
 # What a finished run made; {done} is the count of new worlds.
 FINISHED_TEXT = {RunKind.SAMPLE: "Sampled {done} worlds", RunKind.REFINE: "Refined into {done} worlds",
                  RunKind.ADD: "Added into {done} new worlds", RunKind.REMOVE: "Removed from {done} new worlds",
-                 RunKind.UPDATE: "Updated in {done} new worlds", RunKind.SEEK: "{done} new worlds"}
+                 RunKind.UPDATE: "Updated in {done} new worlds"}
 
 
 class Run:
@@ -93,7 +93,8 @@ class Run:
     def finished_text(self, stored):
         """The panel's line once it reached its end; `stored`: worlds the library holds now."""
         done = self.progress()[0]
-        return f"{FINISHED_TEXT[self.kind].format(done=done)}{self.note}; the library holds {stored}"
+        made = FINISHED_TEXT.get(self.kind, "{done} new worlds").format(done=done)
+        return f"{made}{self.note}; the library holds {stored}"
 
     def cancelled_text(self, stored):
         return f"{self.label} cancelled; the library keeps {stored} worlds"
