@@ -1,7 +1,7 @@
 """Type stubs of the native module (pybind11 over the C++ core). Arrays are numpy; shapes are
 given as (bodies, frames, ...) where bodies is the library scene's body count. A test checks that
 every public name of the module is declared here."""
-from typing import Callable, Dict, List, Optional, Sequence, Tuple
+from typing import Callable, Dict, List, Optional, Sequence, Tuple, overload
 
 import numpy as np
 
@@ -239,7 +239,11 @@ class engine_protocol:
     WARNING_CODES: Tuple[str, ...]
 
 def run_hash(scene_json: str, settings: RunSettings) -> str: ...
+def run_header(scene_json: str, settings: RunSettings) -> LibraryHeader: ...
+@overload
 def library_holds_run(library: str, scene_json: str, settings: RunSettings) -> LibraryHolding: ...
+@overload
+def library_holds_run(library: str, run: LibraryHeader) -> LibraryHolding: ...
 def validate_scene_json(text: str) -> List[str]: ...
 def sample(scene: Scene, parameters: SimulationParameters, base_seed: int, first_world: int, world_count: int,
            threads: int = 0, on_world: Optional[Callable[[World], None]] = None) -> List[World]: ...

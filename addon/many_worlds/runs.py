@@ -71,13 +71,22 @@ def sample_request(context, library, first_world, world_count, threads=None, see
     return request, warnings
 
 
-def library_holds_run(library, scene_text, settings):
-    """Whether `library` holds the run of this scene and settings (a LibraryHolding), answered by
-    the module from the library's header, as the engine itself decides."""
+def _run_header(scene_text, settings):
+    """The header this scene and settings sample into (the scene parsed once, here)."""
     from . import _native
     try:
-        return _native.library_holds_run(library, scene_text, settings)
-    except (_native.LibraryError, _native.SceneError) as error:
+        return _native.run_header(scene_text, settings)
+    except _native.SceneError as error:
+        raise RunSetupError(str(error))
+
+
+def library_holds_run(library, run):
+    """Whether `library` holds the run whose header is `run` (a LibraryHolding), answered by the
+    module from the library's header, as the engine itself decides."""
+    from . import _native
+    try:
+        return _native.library_holds_run(library, run)
+    except _native.LibraryError as error:
         raise RunSetupError(str(error))
 
 
@@ -93,12 +102,13 @@ def sample_into_matching_library(context, library, known, first_world, world_cou
     the worlds sampled before. Returns (SampleRequest, library used, first world, export warnings)."""
     scene_text, warnings = export_scene(context)
     settings = run_settings(context.scene)
+    run = _run_header(scene_text, settings)
     holding = engine_process.LibraryHolding
-    if library_holds_run(library, scene_text, settings) in (holding.SAME, holding.NEW):
+    if library_holds_run(library, run) in (holding.SAME, holding.NEW):
         target, first = library, first_world
     else:
         target = next((other for other in known if other != library and os.path.isfile(other)
-                       and library_holds_run(other, scene_text, settings) == holding.SAME), None)
+                       and library_holds_run(other, run) == holding.SAME), None)
         first = _next_world_index(target) if target is not None else 0
     if target is None:
         target = paths.next_library_path(library, taken=set(known))

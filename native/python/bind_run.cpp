@@ -61,6 +61,21 @@ void bind_run(py::module_& m) {
         py::arg("library"), py::arg("scene_json"), py::arg("settings"),
         "Whether the library at `library` holds the run of this scene JSON and settings (LibraryHolding); reads\n"
         "only the file's header. Raises SceneError for a bad scene, LibraryError for a damaged file.");
+    m.def(
+        "run_header",
+        [](const std::string& scene_json, const RunSettings& settings) {
+            return run_header_for(scene_from_json(scene_json), settings);
+        },
+        py::arg("scene_json"), py::arg("settings"),
+        "The LibraryHeader a `sample` of this scene JSON with these settings writes (engine_build empty):\n"
+        "parse the scene once, then ask library_holds_run of as many libraries as needed.");
+    m.def(
+        "library_holds_run",
+        [](const std::string& library, const RunHeader& run) {
+            py::gil_scoped_release release;
+            return library_holding(library, run);
+        },
+        py::arg("library"), py::arg("run"), "The same, for a run_header already made.");
 
     py::enum_<EngineExit>(m, "EngineExit", "mwb-engine's exit status.")
         .value("OK", EngineExit::Ok)

@@ -77,6 +77,9 @@ def test_the_module_says_which_library_holds_a_run_as_the_engine_decides(native,
     assert info["run_hash"] == native.run_hash(scene_text, settings)
     other = engine_process.RunSettings(seed=3, alpha=0.25)
     assert native.library_holds_run(str(library), scene_text, other) == holding.OTHER
+    # A header made once answers as the scene and settings do, for any number of libraries.
+    assert native.library_holds_run(str(library), native.run_header(scene_text, settings)) == holding.SAME
+    assert native.library_holds_run(str(library), native.run_header(scene_text, other)) == holding.OTHER
     assert native.run_hash(scene_text, other) != info["run_hash"]
     # The engine refuses the run the module called another, by code and exit status.
     refused = run(engine, sample_request(library, count=2, seed=3, alpha=0.25))
