@@ -209,20 +209,26 @@ std::string with_commas(uint64_t n) {
     return out;
 }
 
+// What a goal's parts are called: boxes, unless some part tests orientation.
+std::string parts_word(const std::vector<QueryBox>& goal) {
+    const bool oriented = std::any_of(goal.begin(), goal.end(), [](const QueryBox& b) { return b.orientation.has_value(); });
+    return oriented ? " goal parts" : " boxes";
+}
+
 // How a seek ended, in one line for people.
-std::string seek_outcome_text(const EngineOptions& options, const SeekOutcome& outcome) {
+std::string seek_outcome_text(const EngineOptions& options, const SeekOutcome& outcome, const std::string& parts) {
     std::ostringstream made;
     made.precision(1);
     made << std::fixed << " (" << with_commas(outcome.worlds_made) << " worlds made in " << outcome.seconds << " s)";
     std::ostringstream text;
     if (outcome.reached) {
         text << "seek: " << outcome.found.size() << (outcome.found.size() == 1 ? " world meets" : " worlds meet")
-             << " all " << outcome.box_count << " boxes:";
+             << " all " << outcome.box_count << parts << ":";
         for (size_t k = 0; k < outcome.found.size() && k < 20; ++k) text << (k ? ", " : " ") << outcome.found[k];
         if (outcome.found.size() > 20) text << ", ...";
     } else {
         text << "seek: " << (outcome.cancelled ? "cancelled" : "budget spent") << "; best world " << outcome.best_world
-             << " meets " << outcome.best_boxes_met << " of " << outcome.box_count << " boxes";
+             << " meets " << outcome.best_boxes_met << " of " << outcome.box_count << parts;
         if (!outcome.found.empty()) text << " (" << outcome.found.size() << " of " << options.want << " wanted found)";
     }
     text << made.str();
@@ -240,6 +246,7 @@ int run_seek(const EngineOptions& options, EngineEvents& events) {
         const LibraryReader reader(options.library_path);
         request.boxes = goal_from_json(goal_text, scene_from_json(reader.scene_json()));
     }
+    const std::string parts = parts_word(request.boxes);
     request.want = options.want;
     request.budget_worlds = options.budget_worlds;
     request.budget_s = options.budget_s;
@@ -250,7 +257,7 @@ int run_seek(const EngineOptions& options, EngineEvents& events) {
         options.library_path, request,
         [&](const SeekStatus& s) {
             std::ostringstream text;
-            text << "seek: best " << s.best_boxes_met << " of " << s.box_count << " boxes (world " << s.best_world
+            text << "seek: best " << s.best_boxes_met << " of " << s.box_count << parts << " (world " << s.best_world
                  << "), " << with_commas(s.worlds_made) << " worlds made";
             events.progress(s.worlds_made, options.budget_worlds,
                             {{"seek",
@@ -267,7 +274,7 @@ int run_seek(const EngineOptions& options, EngineEvents& events) {
                                 {"boxes", outcome.box_count},         {"worlds_made", outcome.worlds_made},
                                 {"refinements", outcome.refinements}, {"seconds", outcome.seconds},
                                 {"cancelled", outcome.cancelled}};
-    events.summary(fields, options.json ? fields.dump() : seek_outcome_text(options, outcome));
+    events.summary(fields, options.json ? fields.dump() : seek_outcome_text(options, outcome, parts));
     return exit_status(outcome.cancelled);
 }
 

@@ -11,6 +11,7 @@
 namespace mwb {
 namespace {
 
+constexpr double kPi = 3.14159265358979323846;
 const Matrix4 kIdentity{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
 
 // Orthographic camera looking down -z at the square x, y in [-10, 10], depth 1..100: a screen
@@ -200,6 +201,71 @@ TEST(GoalScore, ClosenessOfANegativeBoxIsHowBrieflyThePathStaysInside) {
                                        {0.1, 0.1}, goal, goal_order(goal));
     EXPECT_GT(brief.closeness, 0.8);
     EXPECT_LT(brief.closeness, 1.0);
+}
+
+// An orientation part of `bodies`: axis z within `within_deg` of `target`.
+QueryBox upright(std::vector<uint32_t> bodies, double within_deg, TimeWindow window, Vec3 target = {0, 0, 1},
+                 bool negative = false, double longer_than_s = 0) {
+    QueryBox part;
+    part.bodies = std::move(bodies);
+    part.window = window;
+    part.negative = negative;
+    part.orientation = OrientationTest{{0, 0, 1}, target, within_deg * kPi / 180, longer_than_s};
+    return part;
+}
+
+// Rotations about x at the path's points: from `from_deg` to `to_deg`, evenly over the first
+// `turn_s` seconds of a 30 Hz path of `points` points, then held.
+std::vector<Quat> turning_about_x(size_t points, double from_deg, double to_deg, double turn_s) {
+    std::vector<Quat> out;
+    for (size_t k = 0; k < points; ++k) {
+        const double u = std::min(1.0, (k / 30.0) / turn_s);
+        out.push_back(quat_from_axis_angle({1, 0, 0}, (from_deg + (to_deg - from_deg) * u) * kPi / 180));
+    }
+    return out;
+}
+
+TEST(GoalScore, AnOrientationPartHoldsWhileTheAxisStaysWithinItsTolerance) {
+    // One body tips over about x, from upright to on its side (z turned to -y) in 3 s, then lies still.
+    const PathTree path = path_through({{0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}});
+    const BodyOrientations tipping{turning_about_x(path.point_count(), 0, 90, 3)};
+    const auto met = [&](const QueryBox& part) {
+        const std::vector<QueryBox> goal{part};
+        return score_goal({path}, {0.1}, goal, goal_order(goal), true, &tipping);
+    };
+    EXPECT_EQ(met(upright({0}, 20, {0, 0.5})).boxes_met, 1u);   // still upright for the first half second
+    const GoalScore late = met(upright({0}, 20, {3, 4}));        // on its side at the end
+    EXPECT_EQ(late.boxes_met, 0u);
+    EXPECT_EQ(late.first_unmet, 0);
+    // Its worst is 90°: 1 - cos 90° is (1 - cos 20°) times 1 / (1 - cos 20°), an excess of
+    // cos 20° / (1 - cos 20°) tolerances.
+    const double tolerance = 1 - std::cos(20 * kPi / 180);
+    EXPECT_NEAR(late.closeness, 1 / (1 + std::cos(20 * kPi / 180) / tolerance), 1e-6);
+    // It went wrong as it tipped past 20°: at 20/90 of the 3 s turn.
+    EXPECT_NEAR(late.failure_time_s, 3.0 * 20 / 90, 1.0 / 30 + 1e-9);
+    EXPECT_EQ(late.failing_bodies, (std::vector<uint32_t>{0}));
+    // Less tipped is closer, and meeting the part counts for more than any closeness.
+    const BodyOrientations leaning{turning_about_x(path.point_count(), 0, 30, 3)};
+    const std::vector<QueryBox> goal{upright({0}, 20, {3, 4})};
+    const GoalScore nearer = score_goal({path}, {0.1}, goal, goal_order(goal), true, &leaning);
+    EXPECT_GT(nearer.closeness, late.closeness);
+    EXPECT_LT(nearer.value(), met(upright({0}, 20, {0, 0.5})).value());
+
+    // Negative: lying on its side (z within 20° of -y) for more than a given time. It lies so from
+    // 70° on (7/9 of the turn, 2.33 s) to the end of its held pose (4 s): 1.67 s.
+    const Vec3 side{0, -1, 0};
+    EXPECT_EQ(met(upright({0}, 20, {}, side, true, 2.0)).boxes_met, 1u);
+    const GoalScore lying = met(upright({0}, 20, {}, side, true, 0.5));
+    EXPECT_EQ(lying.boxes_met, 0u);
+    EXPECT_NEAR(lying.failure_time_s, 3.0 * 70 / 90, 1.0 / 30 + 1e-9);
+    EXPECT_NEAR(lying.closeness, 1 - 1.67 / 4, 0.03);
+    EXPECT_EQ(met(upright({0}, 20, {0, 2}, side, true)).boxes_met, 1u);  // not yet lying in the first 2 s
+
+    // Without the rotations an orientation part cannot be scored, and the index refuses it.
+    const std::vector<QueryBox> part{upright({0}, 20, {})};
+    EXPECT_THROW(score_goal({path}, {0.1}, part, goal_order(part)), std::invalid_argument);
+    PathIndex index({0.1});
+    EXPECT_THROW(index.query(part), std::invalid_argument);
 }
 
 TEST(PathIndex, OrderedQueriesCountAlongTheOrder) {

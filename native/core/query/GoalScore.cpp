@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/PortableMath.h"
 #include "query/PathIndex.h"
 
 namespace mwb {
@@ -99,6 +100,136 @@ void score_negative_miss(const std::vector<PathView>& paths, const std::vector<d
     for (const auto& [t, body] : entries) score.failing_bodies.push_back(body);
 }
 
+// --- orientation parts ---------------------------------------------------------------------
+
+// cos of the angle between the body's axis, turned by `rotation`, and the target.
+double alignment(const OrientationTest& test, const Quat& rotation) {
+    return dot(quat_rotate(rotation, test.axis), test.target);
+}
+
+const std::vector<Quat>& rotations_of(const BodyOrientations& orientations, const PathView& path, uint32_t body) {
+    if (body >= orientations.size() || orientations[body].size() != path.point_count())
+        throw std::invalid_argument("orientation part: body " + std::to_string(body) + " has no rotations at its path's points");
+    return orientations[body];
+}
+
+// One body's stretches within the tolerance during [lo, hi]: (start, end) seconds; a stretch
+// that reaches the path's last point lasts while that pose is held.
+std::vector<std::pair<double, double>> stretches_within(const PathView& path, const std::vector<Quat>& rotations,
+                                                        const OrientationTest& test, double lo, double hi) {
+    const double tolerance = portable::cos(test.within_rad);
+    std::vector<std::pair<double, double>> stretches;
+    bool open = false;
+    const size_t last = path.point_count() - 1;
+    visit_samples(path, lo, hi, [&](size_t k, double t) {
+        const bool within = alignment(test, rotations[k]) >= tolerance;
+        if (within && !open) stretches.emplace_back(t, t);
+        if (within) stretches.back().second = k == last ? std::min(hi, path.end_time_s()) : t;
+        open = within;
+    });
+    return stretches;
+}
+
+bool stays_too_long(const std::pair<double, double>& stretch, const OrientationTest& test) {
+    return test.longer_than_s > 0 ? stretch.second - stretch.first > test.longer_than_s : true;
+}
+
+// Whether the part is met, and when it failed (for the closeness and branch points).
+bool orientation_met(const std::vector<PathView>& paths, const BodyOrientations& orientations, const QueryBox& part,
+                     double lo, double hi) {
+    const OrientationTest& test = *part.orientation;
+    const double tolerance = portable::cos(test.within_rad);
+    bool any_sample = false;
+    for (uint32_t body : part.bodies) {
+        if (!has_path(paths, body)) continue;
+        const std::vector<Quat>& rotations = rotations_of(orientations, paths[body], body);
+        if (part.negative) {
+            for (const auto& stretch : stretches_within(paths[body], rotations, test, lo, hi))
+                if (stays_too_long(stretch, test)) return false;
+            continue;
+        }
+        bool out = false;
+        visit_samples(paths[body], lo, hi, [&](size_t k, double) {
+            any_sample = true;
+            out = out || alignment(test, rotations[k]) < tolerance;
+        });
+        if (out) return false;
+    }
+    return part.negative || any_sample;
+}
+
+void score_orientation_miss(const std::vector<PathView>& paths, const BodyOrientations& orientations,
+                            const QueryBox& part, double lo, double hi, GoalScore& score) {
+    const OrientationTest& test = *part.orientation;
+    const double tolerance = portable::cos(test.within_rad);
+    if (part.negative) {
+        // Like a negative box: the share of the window's samples no body spends within.
+        std::vector<std::pair<double, uint32_t>> offences;
+        std::vector<double> within_times;
+        size_t samples = 0;
+        for (uint32_t body : part.bodies) {
+            if (!has_path(paths, body)) continue;
+            const std::vector<Quat>& rotations = rotations_of(orientations, paths[body], body);
+            for (const auto& stretch : stretches_within(paths[body], rotations, test, lo, hi))
+                if (stays_too_long(stretch, test)) {
+                    offences.emplace_back(stretch.first, body);
+                    break;
+                }
+            size_t body_samples = 0;
+            visit_samples(paths[body], lo, hi, [&](size_t k, double t) {
+                ++body_samples;
+                if (alignment(test, rotations[k]) >= tolerance) within_times.push_back(t);
+            });
+            samples = std::max(samples, body_samples);
+        }
+        std::sort(within_times.begin(), within_times.end());
+        const auto within = static_cast<size_t>(std::unique(within_times.begin(), within_times.end()) - within_times.begin());
+        score.closeness = std::min(kMaxCloseness, samples > 0 ? 1 - std::min(1.0, double(within) / double(samples)) : 0.0);
+        std::sort(offences.begin(), offences.end());
+        score.failure_time_s = offences.empty() ? std::max(lo, 0.0) : offences.front().first;
+        for (const auto& [t, body] : offences) score.failing_bodies.push_back(body);
+        return;
+    }
+    // Positive: how far past its tolerance the worst body turned, in tolerances (1 - cos).
+    const double allowed = std::max(1e-12, 1 - tolerance);
+    std::vector<std::pair<double, uint32_t>> excesses;  // (-worst excess, body)
+    double worst = -1;
+    uint32_t worst_body = 0;
+    size_t worst_point = 0;
+    for (uint32_t body : part.bodies) {
+        if (!has_path(paths, body)) continue;
+        const std::vector<Quat>& rotations = rotations_of(orientations, paths[body], body);
+        double body_worst = 0;
+        size_t body_point = 0;
+        visit_samples(paths[body], lo, hi, [&](size_t k, double) {
+            const double excess = (tolerance - alignment(test, rotations[k])) / allowed;
+            if (excess > body_worst) {
+                body_worst = excess;
+                body_point = k;
+            }
+        });
+        if (body_worst <= 0) continue;
+        excesses.emplace_back(-body_worst, body);
+        if (body_worst > worst) {
+            worst = body_worst;
+            worst_body = body;
+            worst_point = body_point;
+        }
+    }
+    if (excesses.empty()) {  // no body has a pose in the window
+        score.failure_time_s = std::max(lo, 0.0);
+        return;
+    }
+    score.closeness = std::min(kMaxCloseness, 1 / (1 + worst));
+    std::sort(excesses.begin(), excesses.end());
+    for (const auto& [e, body] : excesses) score.failing_bodies.push_back(body);
+    // It went wrong where the worst body last turned out of tolerance before its worst moment.
+    const std::vector<Quat>& rotations = orientations[worst_body];
+    size_t k = worst_point;
+    while (k > 0 && alignment(test, rotations[k - 1]) < tolerance) --k;
+    score.failure_time_s = paths[worst_body].time_of(k);
+}
+
 }  // namespace
 
 std::vector<size_t> goal_order(const std::vector<QueryBox>& boxes) {
@@ -133,7 +264,8 @@ std::vector<size_t> goal_order(const std::vector<QueryBox>& boxes) {
 }
 
 GoalScore score_goal(const std::vector<PathView>& paths, const std::vector<double>& body_radii_m,
-                     const std::vector<QueryBox>& boxes, const std::vector<size_t>& order, bool with_closeness) {
+                     const std::vector<QueryBox>& boxes, const std::vector<size_t>& order, bool with_closeness,
+                     const BodyOrientations* orientations) {
     GoalScore score;
     score.met.assign(boxes.size(), 0);
     score.met_time_s.assign(boxes.size(), 0);
@@ -149,7 +281,11 @@ GoalScore score_goal(const std::vector<PathView>& paths, const std::vector<doubl
         }
         bool met = false;
         double when = kInfinity;
-        if (reachable && lo <= hi) {
+        if (box.orientation) {
+            if (!orientations) throw std::invalid_argument("part " + std::to_string(k + 1) + " tests orientation: give the rotations");
+            met = reachable && lo <= hi && orientation_met(paths, *orientations, box, lo, hi);
+            when = std::max(lo, 0.0);
+        } else if (reachable && lo <= hi) {
             for (uint32_t body : box.bodies) {
                 if (body >= body_radii_m.size()) throw std::out_of_range("query box names body " + std::to_string(body));
                 if (!has_path(paths, body)) continue;
@@ -160,14 +296,15 @@ GoalScore score_goal(const std::vector<PathView>& paths, const std::vector<doubl
         }
         if (met) {
             score.met[k] = 1;
-            score.met_time_s[k] = box.negative ? std::max(lo, 0.0) : when;
+            score.met_time_s[k] = box.negative || box.orientation ? std::max(lo, 0.0) : when;
             ++score.boxes_met;
         } else if (score.first_unmet < 0) {
             score.first_unmet = static_cast<int32_t>(k);
             score.window_start_s = std::max(lo, 0.0);
             // A box whose predecessor is unmet cannot come first: its predecessor is earlier in order.
             if (with_closeness) {
-                if (box.negative) score_negative_miss(paths, body_radii_m, box, lo, hi, score);
+                if (box.orientation) score_orientation_miss(paths, *orientations, box, lo, hi, score);
+                else if (box.negative) score_negative_miss(paths, body_radii_m, box, lo, hi, score);
                 else score_positive_miss(paths, body_radii_m, box, lo, hi, score);
             }
         }

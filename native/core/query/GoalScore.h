@@ -1,22 +1,29 @@
 #pragma once
-// A goal is a list of query boxes, some of which must be met after another. How far a world's
-// paths get towards it: the boxes met, counted along the order, and how close it comes to the
-// first box it misses. The browser's ordered queries and the goal search both use this.
+// A goal is a list of query boxes (and orientation parts), some of which must be met after
+// another. How far a world's paths get towards it: the parts met, counted along the order, and
+// how close it comes to the first part it misses. The browser's ordered queries and the goal
+// search both use this.
 #include <cstdint>
 #include <vector>
 
+#include "common/Math.h"
 #include "query/PathTree.h"
 
 namespace mwb {
 
 struct QueryBox;
 
+/// Per scene body, its rotation at each of its path's points (empty for bodies no orientation
+/// part names); the orientation parts of a goal read these.
+using BodyOrientations = std::vector<std::vector<Quat>>;
+
 /// The boxes in the order they are met: every box after the one it must follow, otherwise in list
 /// order. Throws std::invalid_argument for an `after` that names no other box or an ordering cycle.
 std::vector<size_t> goal_order(const std::vector<QueryBox>& boxes);
 
 struct GoalScore {
-    /// Boxes met; an ordered box counts only when the box before it is met and it is met after it.
+    /// Parts met (boxes and orientation parts); an ordered part counts only when the part before it
+    /// is met and it is met after it.
     uint32_t boxes_met = 0;
     std::vector<uint8_t> met;          ///< per box
     std::vector<double> met_time_s;    ///< per met box: when (a negative box: when its window opened)
@@ -24,12 +31,16 @@ struct GoalScore {
     int32_t first_unmet = -1;
     /// How near the world came to that box, in [0, 1): a positive box 1 / (1 + d), d the least
     /// view_relative_distance of its bodies' paths within its window; a negative box the share of
-    /// its window that no body spends inside. 0 when every box is met.
+    /// its window that no body spends inside; a positive orientation part 1 / (1 + e), e the
+    /// worst excess of 1 - cos(angle) over its tolerance's, in tolerances; a negative one the
+    /// share of its window no body spends within. 0 when every part is met.
     double closeness = 0;
     /// Where the first unmet box went wrong (seconds): for a positive box the first moment the
     /// nearest body was already about as near (within 5% + 0.02 box sizes) as it came in the
-    /// window; for a negative box the first entry. And the bodies to blame: the one that came
-    /// nearest, or those that entered, earliest first.
+    /// window; for a negative box the first entry; for a positive orientation part the start of
+    /// the turn that ended at its worst moment; for a negative one when a body first stayed
+    /// within too long. And the bodies to blame: the one that came nearest, those that entered
+    /// (or stayed within), earliest first, or those out of tolerance, worst first.
     double failure_time_s = 0;
     std::vector<uint32_t> failing_bodies;
     /// When that box's window opens, after the box it follows (seconds; 0 for the whole path).
@@ -42,8 +53,9 @@ struct GoalScore {
 /// Scores one world given its body paths (one PathView per scene body, empty for bodies it lacks)
 /// and each body's bounding radius (for swept boxes). `order` is goal_order(boxes). Without
 /// `with_closeness` only the met flags, times and count are computed (what a query needs).
+/// `orientations` is needed when a part tests orientation (std::invalid_argument without it).
 GoalScore score_goal(const std::vector<PathView>& paths, const std::vector<double>& body_radii_m,
                      const std::vector<QueryBox>& boxes, const std::vector<size_t>& order,
-                     bool with_closeness = true);
+                     bool with_closeness = true, const BodyOrientations* orientations = nullptr);
 
 }  // namespace mwb

@@ -176,9 +176,12 @@ QueryResult PathIndex::query(const std::vector<QueryBox>& boxes, uint64_t genera
     const std::vector<const World*> worlds = snapshot();
     const bool ordered = std::any_of(boxes.begin(), boxes.end(), [](const QueryBox& b) { return b.after >= 0; });
     const std::vector<size_t> order = goal_order(boxes);
-    for (const QueryBox& box : boxes)
+    for (const QueryBox& box : boxes) {
+        if (box.orientation)
+            throw std::invalid_argument("the index has no rotations: orientation parts are for the goal search");
         for (uint32_t body : box.bodies)
             if (body >= body_radii_m_.size()) throw std::out_of_range("query box names body " + std::to_string(body));
+    }
     // Each world's count is written to its own slot and the answer is assembled in world order,
     // so the result does not depend on the thread count.
     std::vector<uint32_t> satisfied(worlds.size(), 0);
@@ -293,10 +296,10 @@ const PathIndex::World* PathIndex::find(uint64_t world_index) const {
 }
 
 GoalScore PathIndex::score(uint64_t world_index, const std::vector<QueryBox>& boxes,
-                           const std::vector<size_t>& order) const {
+                           const std::vector<size_t>& order, const BodyOrientations* orientations) const {
     const World* world = find(world_index);
     if (!world) throw std::out_of_range("world " + std::to_string(world_index) + " is not indexed");
-    return score_goal(world->paths(), body_radii_m_, boxes, order);
+    return score_goal(world->paths(), body_radii_m_, boxes, order, true, orientations);
 }
 
 double PathIndex::first_time_inside(uint64_t world_index, const std::vector<uint32_t>& bodies, const Frustum& frustum) const {

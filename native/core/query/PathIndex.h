@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -15,7 +16,20 @@
 
 namespace mwb {
 
-/// One screen-space query box.
+/// What an orientation part of a goal asks of each of its bodies: that the body's own `axis`
+/// (body frame) point within `within_rad` of the world direction `target` (both unit vectors).
+struct OrientationTest {
+    Vec3 axis{0, 0, 1};
+    Vec3 target{0, 0, 1};
+    double within_rad = 0;
+    /// A negative part fails only when a body stays within for longer than this (seconds): a
+    /// tumble through the pose is not lying in it.
+    double longer_than_s = 0;
+};
+
+/// One part of a goal: a screen-space query box, or (with `orientation`) a test of the bodies'
+/// orientation over the window, which has no frustum. Orientation parts are scored by the goal
+/// search, which has the worlds' rotations; the index's queries take boxes only.
 struct QueryBox {
     Frustum frustum;
     bool negative = false;          ///< keep worlds where no chosen body's path enters
@@ -25,6 +39,9 @@ struct QueryBox {
     /// Position, in the same list of boxes, of the box this one must be met after; -1: any time.
     /// An ordered box counts when that box is met and its path enters this one at or after then.
     int32_t after = -1;
+    /// A positive orientation part is met when every body keeps within the test at every moment of
+    /// the window; a negative one when none stays within for longer than longer_than_s.
+    std::optional<OrientationTest> orientation;
 };
 
 /// A world's paths and metrics as handed to the index.
@@ -92,7 +109,9 @@ public:
                                                   const std::vector<QueryBox>* boxes = nullptr) const;
 
     /// How far world `world_index` gets towards the goal `boxes` (order: goal_order(boxes)).
-    GoalScore score(uint64_t world_index, const std::vector<QueryBox>& boxes, const std::vector<size_t>& order) const;
+    /// `orientations`: the world's rotations at its path points, needed by orientation parts.
+    GoalScore score(uint64_t world_index, const std::vector<QueryBox>& boxes, const std::vector<size_t>& order,
+                    const BodyOrientations* orientations = nullptr) const;
 
     /// First time (seconds) any of `bodies` is inside `frustum` in `world_index`, or negative.
     double first_time_inside(uint64_t world_index, const std::vector<uint32_t>& bodies, const Frustum& frustum) const;

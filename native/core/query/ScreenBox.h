@@ -30,6 +30,22 @@ struct ScreenBoxSpec {
 /// bodies, a time window that ends before it starts, an `after` below -1.
 QueryBox make_query_box(const ScreenBoxSpec& spec);
 
+/// An orientation part as a goal file states it (degrees, directions of any length).
+struct OrientationPartSpec {
+    std::vector<uint32_t> bodies;
+    Vec3 axis{0, 0, 1};    ///< in the body's own frame
+    Vec3 target{0, 0, 1};  ///< in the world
+    double within_deg = 0;
+    double longer_than_s = 0;
+    bool negative = false;
+    std::optional<std::pair<double, double>> time_window;
+    int32_t after = -1;
+};
+
+/// The goal part of `spec`, refused as make_query_box refuses boxes: no bodies, a tolerance
+/// outside (0, 180) degrees, a zero axis or target, a negative duration, a reversed window.
+QueryBox make_orientation_part(const OrientationPartSpec& spec);
+
 /// Checks boxes as one goal: at least one, and every `after` names another box of the list with
 /// no cycle (goal_order). Throws std::invalid_argument naming boxes from 1.
 void check_goal(const std::vector<QueryBox>& boxes);

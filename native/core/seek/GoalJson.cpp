@@ -101,6 +101,43 @@ std::vector<QueryBox> goal_from_json(const std::string& text, const Scene& scene
     } catch (const json::exception& error) {
         throw GoalError(std::string("the goal is malformed: ") + error.what());
     }
+    if (goal.contains("orientations")) {
+        if (!goal["orientations"].is_array()) throw GoalError("the goal's \"orientations\" must be a list");
+        try {
+            for (size_t k = 0; k < goal["orientations"].size(); ++k) {
+                const json& o = goal["orientations"][k];
+                const std::string where = "orientation part " + std::to_string(k + 1);
+                if (!o.is_object()) throw GoalError(where + " is not an object");
+                OrientationPartSpec spec;
+                spec.bodies = bodies_of(o, scene, where);
+                if (o.contains("axis")) {
+                    const std::vector<double> v = numbers(o, "axis", 3, where);
+                    spec.axis = {v[0], v[1], v[2]};
+                }
+                if (o.contains("target")) {
+                    const std::vector<double> v = numbers(o, "target", 3, where);
+                    spec.target = {v[0], v[1], v[2]};
+                }
+                if (!o.contains("within_deg") || !o["within_deg"].is_number())
+                    throw GoalError(where + ": \"within_deg\" must be a number of degrees");
+                spec.within_deg = o["within_deg"].get<double>();
+                spec.longer_than_s = o.value("longer_than_s", 0.0);
+                spec.negative = o.value("negative", false);
+                if (o.contains("time_window") && !o["time_window"].is_null()) {
+                    const std::vector<double> w = numbers(o, "time_window", 2, where);
+                    spec.time_window = std::make_pair(w[0], w[1]);
+                }
+                if (o.contains("after") && !o["after"].is_null()) spec.after = o["after"].get<int32_t>();
+                try {
+                    boxes.push_back(make_orientation_part(spec));
+                } catch (const std::invalid_argument& error) {
+                    throw GoalError(where + " " + error.what());
+                }
+            }
+        } catch (const json::exception& error) {
+            throw GoalError(std::string("the goal's orientation parts are malformed: ") + error.what());
+        }
+    }
     try {
         check_goal(boxes);
     } catch (const std::invalid_argument& error) {

@@ -5,6 +5,7 @@
 #include <map>
 
 #include "geometry/ShapeBounds.h"
+#include "library/WorldDecoding.h"
 #include "seek/WorldIndexing.h"
 
 namespace mwb {
@@ -16,10 +17,39 @@ std::vector<double> body_radii(const Scene& scene) {
     return radii;
 }
 
+// The bodies the goal's orientation parts name.
+std::vector<uint32_t> oriented_bodies(const std::vector<QueryBox>& boxes) {
+    std::set<uint32_t> bodies;
+    for (const QueryBox& box : boxes)
+        if (box.orientation) bodies.insert(box.bodies.begin(), box.bodies.end());
+    return {bodies.begin(), bodies.end()};
+}
+
+// Rotations of `bodies` at the world's path points (the frames its polyline samples), decoded
+// from the record.
+BodyOrientations orientations_at_path_points(const StoredWorld& w, const std::vector<uint32_t>& bodies) {
+    BodyOrientations out(w.tracks.size());
+    for (uint32_t body : bodies) {
+        if (body >= w.tracks.size() || !w.tracks[body].present) continue;
+        std::vector<Quat>& rotations = out[body];
+        rotations.reserve(w.polyline_points);
+        for (uint32_t k = 0; k < w.polyline_points; ++k) {
+            const uint64_t frame = std::min<uint64_t>(uint64_t{k} * w.polyline_stride, w.frame_count - 1);
+            rotations.push_back(decode_pose(w, body, static_cast<uint32_t>(frame)).rotation);
+        }
+    }
+    return out;
+}
+
 }  // namespace
 
 ScoredWorlds::ScoredWorlds(LibraryReader& reader, const Scene& scene, const std::vector<QueryBox>& boxes, int threads)
-    : reader_(reader), boxes_(boxes), order_(goal_order(boxes)), index_(body_radii(scene)), threads_(threads) {}
+    : reader_(reader),
+      boxes_(boxes),
+      order_(goal_order(boxes)),
+      oriented_bodies_(oriented_bodies(boxes)),
+      index_(body_radii(scene)),
+      threads_(threads) {}
 
 void ScoredWorlds::take_new_worlds() {
     reader_.poll();
@@ -37,7 +67,10 @@ void ScoredWorlds::take_new_worlds() {
     // two equal worlds counts is then the same on any thread count.
     std::sort(fresh.begin(), fresh.end());
     for (uint64_t w : fresh) {
-        GoalScore score = index_.score(w, boxes_, order_);
+        BodyOrientations orientations;
+        if (!oriented_bodies_.empty())
+            orientations = orientations_at_path_points(stored(w), oriented_bodies_);
+        GoalScore score = index_.score(w, boxes_, order_, &orientations);
         if (score.first_unmet < 0) found_.insert(w);
         // A world that gets as far as one already scored (to a thousandth of a box) is, for
         // the goal, the same world: refining both would repeat work.

@@ -47,6 +47,7 @@ private:
     LibraryReader& reader_;
     const std::vector<QueryBox>& boxes_;
     std::vector<size_t> order_;
+    std::vector<uint32_t> oriented_bodies_;  ///< the bodies orientation parts name
     PathIndex index_;
     int threads_;
     std::unordered_map<uint64_t, size_t> position_;  ///< world index -> position in reader_.worlds()
