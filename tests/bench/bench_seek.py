@@ -137,6 +137,12 @@ def pachinko_letters_goal():
             for i, c in enumerate("WORLDS", 1)]
 
 
+def siggraph_letters_goal():
+    """Every letter in its own slot over the last second (the word started reversed)."""
+    return [camera_box(corners([f"Slot{i}_{c}"], lift=0.5), [f"Letter{i}_{c}"], window=[7.0, 8.0])
+            for i, c in enumerate("SIGGRAPH", 1)]
+
+
 def spiral_staircase_goal():
     """He falls from top to bottom without leaving the staircase's footprint: negative boxes on the
     Pelvis all round the footprint seen from above (two square frames, one turned 45°: an octagon
@@ -188,6 +194,7 @@ def trebuchet_tower_goal():
 
 
 GOALS = {"quickstart": quickstart_goal, "marble_run": marble_run_goal, "pachinko_letters": pachinko_letters_goal,
+         "siggraph_letters": siggraph_letters_goal,
          "spiral_staircase": spiral_staircase_goal, "trebuchet_tower": trebuchet_tower_goal}
 
 

@@ -16,6 +16,7 @@ EXAMPLES = {
     "quickstart": (12, "Marble", ["BinLeftFloor"], (3.0, 4.0), True),
     "marble_run": (12, "Marble", ["GoalBasket"], (7.0, 8.0), True),
     "pachinko_letters": (8, "Letter1_W", ["Slot1_W"], (5.0, 6.0), False),
+    "siggraph_letters": (6, "Letter1_S", ["Slot1_S", "SlotDivider1"], (9.0, 10.0), False),
     "spiral_staircase": (4, "Pelvis", ["Step48"], (39.0, 40.0), False),
     "trebuchet_tower": (2, "Rock", ["Block"], (3.0, 4.0), True),
 }
@@ -113,3 +114,25 @@ def test_letters_at_rest_stay_in_a_time_windowed_box_whenever_their_world_ended(
     whole_view = ["--box", "0,0,1,1", "--objects", "Letter1_W", "--time", "5,6"]
     assert json_of(cli(blend, "query", library, *whole_view, "--json"))["matching"] == list(range(60))
     assert json_of(cli(blend, "query", library, *whole_view, "--negative", "--json"))["matching"] == []
+
+
+CROSSINGS = """
+import json, bpy
+word = "SIGGRAPH"
+out = []
+for i, c in enumerate(word, 1):
+    letter, slot = bpy.data.objects[f"Letter{i}_{c}"], bpy.data.objects[f"Slot{i}_{c}"]
+    out.append([letter.matrix_world.translation.x, slot.matrix_world.translation.x])
+print("RESULT " + json.dumps(out))
+"""
+
+
+def test_every_siggraph_letter_starts_on_the_other_half_of_the_board_from_its_slot():
+    """The paper's difficulty: no letter starts above its own slot; each must cross the middle."""
+    blend = os.path.join(ROOT, "blend_examples", "siggraph_letters", "siggraph_letters.blend")
+    run = blender(blend, "--python-exit-code", "1", "--python-expr", CROSSINGS)
+    line = next(l for l in run.stdout.splitlines() if l.startswith("RESULT "))
+    starts_and_slots = json.loads(line[len("RESULT "):])
+    assert len(starts_and_slots) == 8
+    for start, slot in starts_and_slots:
+        assert start * slot < 0 and abs(start - slot) > 1.5, starts_and_slots
