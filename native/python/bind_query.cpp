@@ -10,6 +10,8 @@
 #include "query/RankingMetrics.h"
 #include "query/ScreenBox.h"
 #include "scene/SceneJson.h"
+#include "seek/GoalJson.h"
+#include "seek/GoalSearch.h"
 #include "seek/WorldIndexing.h"
 
 namespace py = pybind11;
@@ -208,6 +210,16 @@ void bind_query(py::module_& m) {
     m.def("ranking_metrics", &ranking_metrics, py::return_value_policy::copy,
           "Every metric worlds can be ranked by: the stored per-body ones, then orientation_to_goal_rad and boxes_met.");
 
+    py::register_exception<GoalError>(m, "GoalError", PyExc_ValueError);
+    m.def(
+        "worlds_meeting_goal",
+        [](const std::string& library_path, const std::string& goal_json, int threads) {
+            py::gil_scoped_release release;
+            return worlds_meeting_goal(library_path, goal_json, threads);
+        },
+        py::arg("library_path"), py::arg("goal_json"), py::arg("threads") = 0,
+        "The worlds of the library meeting a goal file's text (boxes and orientation parts), as the "
+        "goal search scores them; ascending. Raises ValueError for a goal that does not fit the library.");
     m.def(
         "check_goal",
         [](const std::vector<QueryBox>& boxes) {

@@ -143,38 +143,56 @@ def siggraph_letters_goal():
             for i, c in enumerate("SIGGRAPH", 1)]
 
 
+PARTS = ["Pelvis", "Torso", "Head", "UpperArmL", "UpperArmR", "ForearmL", "ForearmR", "ThighL", "ThighR",
+         "ShinL", "ShinR"]
+
+
 def spiral_staircase_goal():
-    """He falls from top to bottom without leaving the staircase's footprint: negative boxes on the
-    Pelvis all round the footprint seen from above (two square frames, one turned 45°: an octagon
-    15 cm outside the treads); positive boxes on the Pelvis over every fourth step on the way, in
-    turn (each seen side-on across its tread, from the tread up to 0.7 m above it); and at the end,
-    at the foot of the stairs (within 0.7 m of the last three treads or on the ground below them)."""
+    """The paper's full goal: he falls from top to bottom without leaving the staircase's footprint,
+    ends on one of the last two treads, and does not slide down on his back.
+    - Negative boxes on every body part all round the footprint seen from above (two square frames,
+      one turned 45°: an octagon 15 cm outside the treads).
+    - Positive boxes on the Pelvis over every fourth step on the way, in turn (each seen side-on
+      across its tread, from the tread up to 0.7 m above it).
+    - At the end (the last second), the Pelvis over the last two treads, within 0.7 m above them.
+    - An orientation part: his torso's front (its local +Y) is never within 45° of straight up for
+      more than 2 s (lying or sliding on his back; a tumble through that pose is brief)."""
     steps = sorted((o for o in bpy.data.objects if o.name.startswith("Step")), key=lambda o: o.name)
     r = max(Vector(((s.matrix_world @ Vector(c)).x, (s.matrix_world @ Vector(c)).y)).length
             for s in steps for c in s.bound_box) + 0.15
     big = 6.0
     frame = [(-big, -big, -r, big), (r, -big, big, big), (-r, -big, r, -r), (-r, r, r, big)]
-    boxes = [top_box(*rect, ["Pelvis"], negative=True, turned=turned) for turned in (False, True) for rect in frame]
+    boxes = [top_box(*rect, PARTS, negative=True, turned=turned) for turned in (False, True) for rect in frame]
 
     def tread_top(step):
         return max((step.matrix_world @ Vector(c)).z for c in step.bound_box)
 
-    def side_on(step, half_width, z_low, z_high, **kw):
-        """A box seen side-on across a step's tread: half_width metres either side of the step's
-        radial line, heights z_low to z_high."""
-        centre = step.matrix_world.translation
-        radial = Vector((centre.x, centre.y, 0)).normalized()
+    def side_on(radial, half_width, z_low, z_high, **kw):
+        """A box seen side-on across the radial line `radial` (a horizontal direction from the
+        axis): half_width metres either side of it, heights z_low to z_high."""
+        radial = Vector((radial.x, radial.y, 0)).normalized()
         return ortho_box((-radial.y, radial.x, 0), (0, 0, 1), -half_width, z_low, half_width, z_high, ["Pelvis"],
                          half_size=max(6.0, z_high + 1.0), **kw)
 
+    def radial_of(*on_steps):
+        return sum((Vector((s.matrix_world.translation.x, s.matrix_world.translation.y, 0)).normalized()
+                    for s in on_steps), Vector())
+
     for k in range(3, len(steps) - 4, 4):
         top = tread_top(steps[k])
-        boxes.append(side_on(steps[k], 0.35, top - 0.1, top + 0.7, after=len(boxes) - 1 if k > 3 else None))
-    # At the end: on the last three steps (within 0.7 m of a tread) or on the ground at their foot.
+        boxes.append(side_on(radial_of(steps[k]), 0.35, top - 0.1, top + 0.7,
+                             after=len(boxes) - 1 if k > 3 else None))
+    # At the end: over the last two treads (half a tread's width either side of the line between
+    # them at the walking line), from the lower tread up to 0.7 m above the upper one.
     end = bpy.context.scene.frame_end / bpy.context.scene.render.fps
-    boxes.append(side_on(steps[-2], 0.8, -0.1, tread_top(steps[-3]) + 0.7, window=[end - 1.0, end],
-                         after=len(boxes) - 1))
+    boxes.append(side_on(radial_of(steps[-1], steps[-2]), 0.3, tread_top(steps[-1]) - 0.1, tread_top(steps[-2]) + 0.7,
+                         window=[end - 1.0, end], after=len(boxes) - 1))
     return boxes
+
+
+def spiral_staircase_orientations():
+    return [{"objects": ["Torso"], "axis": [0, 1, 0], "target": [0, 0, 1], "within_deg": 45, "negative": True,
+             "longer_than_s": 2.0}]
 
 
 def trebuchet_tower_goal():
@@ -196,6 +214,8 @@ def trebuchet_tower_goal():
 GOALS = {"quickstart": quickstart_goal, "marble_run": marble_run_goal, "pachinko_letters": pachinko_letters_goal,
          "siggraph_letters": siggraph_letters_goal,
          "spiral_staircase": spiral_staircase_goal, "trebuchet_tower": trebuchet_tower_goal}
+# Goal parts that test orientation, beside the boxes (GoalJson.h's "orientations").
+ORIENTATIONS = {"spiral_staircase": spiral_staircase_orientations}
 
 
 def engine(*args):
@@ -219,12 +239,18 @@ def query_boxes(goal, library):
     return out
 
 
-def goal_matches(goal, library_path):
-    """The worlds of the library that meet the goal, by the browser's own query."""
+def goal_matches(goal, goal_path, library_path):
+    """The worlds of the library that meet the goal: its boxes by the browser's own query, and
+    every part (orientation parts too) as the search scores them; both must agree."""
     library = _native.Library(library_path)
     index = _native.PathIndex(_native.body_bounding_radii(_native.Scene.from_json(library.scene_json)))
     index.add_library(library)
-    return library, set(int(w) for w in index.query(query_boxes(goal, library)).matching)
+    by_boxes = set(int(w) for w in index.query(query_boxes(goal, library)).matching)
+    with open(goal_path) as f:
+        by_parts = set(int(w) for w in _native.worlds_meeting_goal(library_path, f.read()))
+    if not by_parts <= by_boxes:
+        raise SystemExit(f"worlds {sorted(by_parts - by_boxes)} meet the goal as searched but not the browser's boxes")
+    return library, by_parts
 
 
 def search_from(seed, scene_json, goal_path, goal, folder):
@@ -235,12 +261,12 @@ def search_from(seed, scene_json, goal_path, goal, folder):
     start = time.perf_counter()
     engine("sample", "--scene", scene_json, "--out", library_path, "--worlds", f"0:{FIRST_BATCH}", "--seed", str(seed))
     sampled_s = time.perf_counter() - start
-    _, first_met = goal_matches(goal, library_path)
+    _, first_met = goal_matches(goal, goal_path, library_path)
     out = engine("seek", "--library", library_path, "--goal", goal_path, "--want", "1", "--seed", str(seed),
                  "--budget-worlds", str(BUDGET_WORLDS), "--budget-s", str(max(1.0, BUDGET_S - sampled_s)), "--json")
     elapsed = time.perf_counter() - start
     outcome = json.loads(out.strip().splitlines()[-1])
-    library, matching = goal_matches(goal, library_path)
+    library, matching = goal_matches(goal, goal_path, library_path)
     reached = bool(outcome["reached"]) and all(w in matching for w in outcome["found"])
     lineage = len(library.world_info(outcome["best"]).lineage) if outcome["best"] in set(
         int(w) for w in library.world_indices) else 0
@@ -268,13 +294,13 @@ def main():
         with open(scene_json, "w") as f:
             f.write(result.to_json())
         with open(goal_path, "w") as f:
-            json.dump({"boxes": goal}, f)
+            json.dump({"boxes": goal, "orientations": ORIENTATIONS.get(name, lambda: [])()}, f)
         for seed in range(BATCHES):
             run = search_from(seed, scene_json, goal_path, goal, folder)
             runs.append(run)
             print(f"{name} seed {seed}: {run['first_met']} of the first {FIRST_BATCH} worlds meet the goal; "
                   f"{'reached' if run['reached'] else 'not reached'}: best world {run['best']} meets "
-                  f"{run['best_boxes_met']} of {run['boxes']} boxes ({run['lineage']} refinements deep), "
+                  f"{run['best_boxes_met']} of {run['boxes']} goal parts ({run['lineage']} refinements deep), "
                   f"{run['worlds']} worlds, {run['refinements']} refine calls, {run['s']:.1f} s", flush=True)
     worlds = sorted(r["worlds"] for r in runs)
     seconds = sorted(r["s"] for r in runs)

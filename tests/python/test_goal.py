@@ -117,3 +117,43 @@ def test_seek_summary_says_how_many_were_wanted_and_names_a_single_box():
     assert engine.seek_outcome_text(one, 2) == ("Goal reached: 10 worlds meet the box (0, 1, 2, 3, 4, 5, 6, 7 and "
                                                 "2 more); 0 worlds made in 0.0 s")
     assert engine.seek_progress_text(engine.SeekProgress(0, 1, 8, -1, 0)) == "best 0 of 1 box, 8 worlds made"
+
+
+def test_worlds_meeting_an_orientation_goal_are_those_whose_recorded_rotations_keep_within_it(native, engine,
+                                                                                              tmp_path):
+    """An orientation part, "the die's top stays within N degrees of up over the last second", is
+    met by exactly the worlds whose recorded rotations (at the path's points) say so; a bad part is a
+    GoalError (a ValueError) naming it."""
+    import subprocess
+    from conftest import SCENES
+    library = str(tmp_path / "q.mwb")
+    subprocess.run([engine, "sample", "--scene", f"{SCENES}/quickstart.json", "--out", library, "--worlds", "0:16"],
+                   check=True, capture_output=True)
+    lib = native.Library(library)
+    names = list(native.Scene.from_json(lib.scene_json).body_objects)
+    die = names.index("Die")
+    hz, window = 120.0, (3.0, 4.0)
+    worst_tilt = {}
+    for w in lib.world_indices:
+        up = orientations_up(lib.orientations(int(w))[die])
+        stride, last = lib.polyline_stride(int(w)), lib.frame_count(int(w)) - 1
+        frames = sorted({min(k * stride, last) for k in range(last // stride + 2)})
+        inside = [f for f in frames if window[0] <= f / hz <= window[1]] or ([last] if last / hz < window[0] else [])
+        worst_tilt[int(w)] = max(np.degrees(np.arccos(np.clip(up[f], -1, 1))) for f in inside)
+    tilts = sorted(worst_tilt.values())
+    # A tolerance in the widest gap between two worlds' worst tilts, so that no world sits on it.
+    gaps = [(b - a, (a + b) / 2) for a, b in zip(tilts, tilts[1:]) if 1 < (a + b) / 2 < 179]
+    tolerance = max(gaps)[1]
+    expected = sorted(w for w, t in worst_tilt.items() if t <= tolerance)
+    assert 0 < len(expected) < 16, tilts
+    part = {"objects": ["Die"], "within_deg": tolerance, "time_window": list(window)}
+    met = native.worlds_meeting_goal(library, json.dumps({"boxes": [], "orientations": [part]}))
+    assert list(met) == expected
+    with pytest.raises(ValueError, match="orientation part 1 has a tolerance"):
+        native.worlds_meeting_goal(library, json.dumps({"boxes": [], "orientations": [dict(part, within_deg=0)]}))
+
+
+def orientations_up(quaternions):
+    """cos of the angle between each rotation's local up (z) and the world's."""
+    w, x, y, z = quaternions[:, 0], quaternions[:, 1], quaternions[:, 2], quaternions[:, 3]
+    return 1 - 2 * (x * x + y * y)

@@ -298,14 +298,23 @@ GoalScore score_goal(const std::vector<PathView>& paths, const std::vector<doubl
             score.met[k] = 1;
             score.met_time_s[k] = box.negative || box.orientation ? std::max(lo, 0.0) : when;
             ++score.boxes_met;
-        } else if (score.first_unmet < 0) {
-            score.first_unmet = static_cast<int32_t>(k);
-            score.window_start_s = std::max(lo, 0.0);
-            // A box whose predecessor is unmet cannot come first: its predecessor is earlier in order.
-            if (with_closeness) {
-                if (box.orientation) score_orientation_miss(paths, *orientations, box, lo, hi, score);
-                else if (box.negative) score_negative_miss(paths, body_radii_m, box, lo, hi, score);
-                else score_positive_miss(paths, body_radii_m, box, lo, hi, score);
+        } else if (!with_closeness) {
+            if (score.first_unmet < 0) score.first_unmet = static_cast<int32_t>(k);
+        } else if (reachable) {
+            // Of the parts it could meet next, the one it comes nearest to: a search then works
+            // on what is closest to done (the letter one bounce from its slot before the one
+            // across the board), and the score rises with every part it brings nearer.
+            GoalScore miss;
+            miss.window_start_s = std::max(lo, 0.0);
+            if (box.orientation) score_orientation_miss(paths, *orientations, box, lo, hi, miss);
+            else if (box.negative) score_negative_miss(paths, body_radii_m, box, lo, hi, miss);
+            else score_positive_miss(paths, body_radii_m, box, lo, hi, miss);
+            if (score.first_unmet < 0 || miss.closeness > score.closeness) {
+                score.first_unmet = static_cast<int32_t>(k);
+                score.closeness = miss.closeness;
+                score.failure_time_s = miss.failure_time_s;
+                score.failing_bodies = std::move(miss.failing_bodies);
+                score.window_start_s = miss.window_start_s;
             }
         }
     }

@@ -27,9 +27,11 @@ struct GoalScore {
     uint32_t boxes_met = 0;
     std::vector<uint8_t> met;          ///< per box
     std::vector<double> met_time_s;    ///< per met box: when (a negative box: when its window opened)
-    /// The first box in goal order that is not met, or -1 when all are.
+    /// The part to meet next, or -1 when all are met: of the unmet parts whose predecessor is met,
+    /// the one the world comes nearest to (the highest closeness; the first in goal order on a
+    /// tie). Without closeness: the first unmet part in goal order.
     int32_t first_unmet = -1;
-    /// How near the world came to that box, in [0, 1): a positive box 1 / (1 + d), d the least
+    /// How near the world came to that part, in [0, 1): a positive box 1 / (1 + d), d the least
     /// view_relative_distance of its bodies' paths within its window; a negative box the share of
     /// its window that no body spends inside; a positive orientation part 1 / (1 + e), e the
     /// worst excess of 1 - cos(angle) over its tolerance's, in tolerances; a negative one the

@@ -214,6 +214,15 @@ private:
 
 }  // namespace
 
+std::vector<uint64_t> worlds_meeting_goal(const std::string& library_path, const std::string& goal_json, int threads) {
+    LibraryReader reader(library_path, ReaderOptions{false, kPolylineHz});
+    const Scene scene = scene_from_json(reader.scene_json());
+    const std::vector<QueryBox> goal = goal_from_json(goal_json, scene);
+    ScoredWorlds worlds(reader, scene, goal, threads);
+    worlds.take_new_worlds();
+    return {worlds.found().begin(), worlds.found().end()};
+}
+
 SeekOutcome seek_goal(const std::string& library_path, const SeekRequest& request, const SeekListener& on_status,
                       SamplingProgress* progress) {
     GoalSearch search(library_path, request, on_status, progress);

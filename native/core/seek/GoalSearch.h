@@ -53,6 +53,11 @@ struct SeekOutcome : SeekStatus {
 /// Called after each batch of new worlds, from the calling thread.
 using SeekListener = std::function<void(const SeekStatus&)>;
 
+/// The worlds of the library at `library_path` meeting the goal file `goal_json` (boxes and
+/// orientation parts, see GoalJson.h), scored as the search scores them; ascending. Throws
+/// GoalError and LibraryError as seek_goal does.
+std::vector<uint64_t> worlds_meeting_goal(const std::string& library_path, const std::string& goal_json, int threads = 0);
+
 /// Searches the library at `library_path` (appending to it) for worlds meeting `request.boxes`.
 /// Deterministic: the same library, goal, budget in worlds and seed give the same worlds on any
 /// number of threads. Setting progress->cancel stops it at the next world; every world made so
