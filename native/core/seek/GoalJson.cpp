@@ -59,6 +59,16 @@ std::vector<uint32_t> bodies_of(const json& box, const Scene& scene, const std::
     return bodies;
 }
 
+// A part's "time_window" and "after", the same for boxes and orientation parts.
+template <typename Spec>
+void read_window_and_order(const json& part, const std::string& where, Spec& spec) {
+    if (part.contains("time_window") && !part["time_window"].is_null()) {
+        const std::vector<double> w = numbers(part, "time_window", 2, where);
+        spec.time_window = std::make_pair(w[0], w[1]);
+    }
+    if (part.contains("after") && !part["after"].is_null()) spec.after = part["after"].get<int32_t>();
+}
+
 }  // namespace
 
 std::vector<QueryBox> goal_from_json(const std::string& text, const Scene& scene) {
@@ -87,11 +97,7 @@ std::vector<QueryBox> goal_from_json(const std::string& text, const Scene& scene
             spec.bodies = bodies_of(b, scene, where);
             spec.negative = b.value("negative", false);
             spec.swept = b.value("swept", false);
-            if (b.contains("time_window") && !b["time_window"].is_null()) {
-                const std::vector<double> w = numbers(b, "time_window", 2, where);
-                spec.time_window = std::make_pair(w[0], w[1]);
-            }
-            if (b.contains("after") && !b["after"].is_null()) spec.after = b["after"].get<int32_t>();
+            read_window_and_order(b, where, spec);
             try {
                 boxes.push_back(make_query_box(spec));
             } catch (const std::invalid_argument& error) {
@@ -123,11 +129,7 @@ std::vector<QueryBox> goal_from_json(const std::string& text, const Scene& scene
                 spec.within_deg = o["within_deg"].get<double>();
                 spec.longer_than_s = o.value("longer_than_s", 0.0);
                 spec.negative = o.value("negative", false);
-                if (o.contains("time_window") && !o["time_window"].is_null()) {
-                    const std::vector<double> w = numbers(o, "time_window", 2, where);
-                    spec.time_window = std::make_pair(w[0], w[1]);
-                }
-                if (o.contains("after") && !o["after"].is_null()) spec.after = o["after"].get<int32_t>();
+                read_window_and_order(o, where, spec);
                 try {
                     boxes.push_back(make_orientation_part(spec));
                 } catch (const std::invalid_argument& error) {
