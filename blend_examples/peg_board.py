@@ -110,6 +110,16 @@ def build_slots(board, mats):
         rigid_body(tile, "PASSIVE", "BOX", friction=0.6)
 
 
+def build_peg_board(board):
+    """The whole board (frame, pegs, slots) in the materials both examples use; returns them, for
+    the letters."""
+    mats = board_materials()
+    build_board(board, mats)
+    build_pegs(board, mats)
+    build_slots(board, mats)
+    return mats
+
+
 def board_materials():
     """The materials both boards use."""
     return {k: material(k, rgb) for k, rgb in {

@@ -18,7 +18,7 @@ import bpy
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 from example_kit import camera_and_lights, compound, output_path, scene_settings, variation  # noqa: E402
 from peg_board import (  # noqa: E402
-    LETTER_MASS, Board, board_materials, build_board, build_pegs, build_slots, letter_parts, slot_centre_x)
+    LETTER_MASS, Board, build_peg_board, letter_parts, slot_centre_x)
 
 FPS = 24
 FRAME_START, FRAME_END = 1, 144         # 6 s: the letters are at rest in the slots after 4-5 s
@@ -49,11 +49,7 @@ def main():
     bpy.ops.wm.read_factory_settings(use_empty=True)
     bpy.context.scene.name = "pachinko_letters"
     scene_settings(FPS, FRAME_START, FRAME_END, SUBSTEPS, SOLVER_ITERATIONS, WORLD_COUNT, SEED)
-    mats = board_materials()
-    build_board(BOARD, mats)
-    build_pegs(BOARD, mats)
-    build_slots(BOARD, mats)
-    build_letters(mats)
+    build_letters(build_peg_board(BOARD))
     camera_and_lights(location=(0.0, -9.5, 2.6), target=(0, 0, 2.5), lens=35)
     bpy.context.preferences.filepaths.save_version = 0     # no .blend1 backup beside the committed file
     bpy.ops.wm.save_as_mainfile(filepath=path, compress=True)

@@ -284,7 +284,6 @@ GoalScore score_goal(const std::vector<PathView>& paths, const std::vector<doubl
         if (box.orientation) {
             if (!orientations) throw std::invalid_argument("part " + std::to_string(k + 1) + " tests orientation: give the rotations");
             met = reachable && lo <= hi && orientation_met(paths, *orientations, box, lo, hi);
-            when = std::max(lo, 0.0);
         } else if (reachable && lo <= hi) {
             for (uint32_t body : box.bodies) {
                 if (body >= body_radii_m.size()) throw std::out_of_range("query box names body " + std::to_string(body));

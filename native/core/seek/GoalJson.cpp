@@ -59,6 +59,13 @@ std::vector<uint32_t> bodies_of(const json& box, const Scene& scene, const std::
     return bodies;
 }
 
+// A direction given as 3 numbers, or `fallback` when the key is absent.
+Vec3 direction(const json& part, const char* key, const Vec3& fallback, const std::string& where) {
+    if (!part.contains(key)) return fallback;
+    const std::vector<double> v = numbers(part, key, 3, where);
+    return {v[0], v[1], v[2]};
+}
+
 // A part's "time_window" and "after", the same for boxes and orientation parts.
 template <typename Spec>
 void read_window_and_order(const json& part, const std::string& where, Spec& spec) {
@@ -116,14 +123,8 @@ std::vector<QueryBox> goal_from_json(const std::string& text, const Scene& scene
                 if (!o.is_object()) throw GoalError(where + " is not an object");
                 OrientationPartSpec spec;
                 spec.bodies = bodies_of(o, scene, where);
-                if (o.contains("axis")) {
-                    const std::vector<double> v = numbers(o, "axis", 3, where);
-                    spec.axis = {v[0], v[1], v[2]};
-                }
-                if (o.contains("target")) {
-                    const std::vector<double> v = numbers(o, "target", 3, where);
-                    spec.target = {v[0], v[1], v[2]};
-                }
+                spec.axis = direction(o, "axis", spec.axis, where);
+                spec.target = direction(o, "target", spec.target, where);
                 if (!o.contains("within_deg") || !o["within_deg"].is_number())
                     throw GoalError(where + ": \"within_deg\" must be a number of degrees");
                 spec.within_deg = o["within_deg"].get<double>();
