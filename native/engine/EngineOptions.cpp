@@ -60,14 +60,21 @@ const std::set<std::string>& flags_of(const std::string& command) {
                                 "--no-sleep", "--no-stop-at-rest", "--no-shared-prefix", "--position-error",
                                 "--rotation-error", "--in-process", "--world-time-limit"})},
         {"refine", with_common({"--library", "--world", "--bodies", "--time", "--count", "--first-child", "--add",
-                                "--remove", "--update", "--scene"})},
-        {"seek", with_common({"--library", "--goal", "--want", "--budget-worlds", "--budget-s", "--seed", "--json"})},
+                                "--remove", "--update", "--scene", "--in-process", "--world-time-limit"})},
+        {"seek", with_common({"--library", "--goal", "--want", "--budget-worlds", "--budget-s", "--seed", "--json",
+                              "--in-process", "--world-time-limit"})},
         {"info", {"--json", "--events"}},
         {"merge", {"--events"}},
         {"validate", {"--events"}},
     };
-    // A worker takes what its supervisor was given.
-    const auto it = flags.find(command == "worker" ? "sample" : command);
+    // A worker takes what its supervisor was given, or the library whose run it simulates.
+    static const std::set<std::string> worker = [] {
+        std::set<std::string> own = flags.at("sample");
+        own.insert("--library");
+        return own;
+    }();
+    if (command == "worker") return worker;
+    const auto it = flags.find(command);
     static const std::set<std::string> none;
     return it == flags.end() ? none : it->second;
 }
@@ -87,12 +94,12 @@ const char* engine_usage() {
            "                    [--no-shared-prefix] [--position-error METRES] [--rotation-error DEGREES] [--progress]\n"
            "                    [--world-time-limit SECONDS] [--in-process]\n"
            "  mwb-engine refine --library LIB.mwb --world W --bodies I,J --time SECONDS [--count N]\n"
-           "                    [--first-child K] [--threads T] [--progress]\n"
+           "                    [--first-child K] [--threads T] [--progress] [--world-time-limit SECONDS] [--in-process]\n"
            "  mwb-engine refine --library LIB.mwb --world W [--add NAME,...] [--update NAME,...] [--scene SCENE.json]\n"
            "                    [--remove NAME,...]\n"
            "                    [--count N] [--first-child K] [--threads T] [--progress]\n"
            "  mwb-engine seek --library LIB.mwb --goal GOAL.json --budget-worlds N [--want K] [--budget-s SECONDS]\n"
-           "                  [--seed S] [--threads T] [--progress] [--json]\n"
+           "                  [--seed S] [--threads T] [--progress] [--json] [--world-time-limit SECONDS] [--in-process]\n"
            "  mwb-engine info LIB.mwb [--json]\n"
            "  mwb-engine merge OUT.mwb LIB.mwb...\n"
            "  mwb-engine validate SCENE.json\n"
@@ -158,7 +165,9 @@ EngineOptions parse_engine_options(const std::vector<std::string>& args) {
     // The run's settings reach the parameters and bounds as the module's run_hash sets them.
     options.run.seed = options.base_seed;
     apply_run_settings(options.run, options.parameters, options.bounds);
-    if (options.command == "sample" || options.command == "worker") {
+    if (options.command == "worker" && !options.library_path.empty()) {
+        // A library's worker: the library holds the run.
+    } else if (options.command == "sample" || options.command == "worker") {
         if (options.scene_path.empty() || options.output_path.empty()) throw UsageError("sample needs --scene and --out");
         if (options.world_count == 0) throw UsageError("--count must be at least 1");
         if (!(options.bounds.position_error_max_m > 0) || !(options.bounds.rotation_error_max_rad > 0))

@@ -41,10 +41,10 @@ struct EngineOptions {
     double budget_s = 0;                ///< seek: and at most this long (0: no limit)
     bool progress = false;
     bool events = false;                ///< JSON-lines events on stdout (common/EngineProtocol.h)
-    bool in_process = false;            ///< sample: simulate in this process, not in supervised workers
+    bool in_process = false;            ///< sample, refine, seek: simulate in this process, not in supervised workers
     /// sample: worlds that start alike share their prefix (sim/SharedPrefix); off only to measure it
     bool share_prefix = true;
-    double world_time_limit_s = 0;      ///< sample: a world still running after this is rejected (0: adaptive)
+    double world_time_limit_s = 0;      ///< sample, refine, seek: a world still running after this is rejected (0: adaptive)
     RunSettings run;                    ///< sample: the settings a person chose (seed is base_seed)
     SimulationParameters parameters;    ///< `run` applied, and the flags only the engine has
     CodecBounds bounds;                 ///< `run` applied

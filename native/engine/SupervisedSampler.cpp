@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "WorkerJob.h"
 #include "WorldWorker.h"
 #include "library/LibraryFormat.h"
 #include "library/WorldRecord.h"
@@ -33,7 +34,7 @@ struct Worker {
     pid_t pid = -1;
     int to_worker = -1, from_worker = -1;
     bool busy = false;
-    uint64_t world = 0;
+    uint64_t world = 0;  ///< the world it is on, while busy
     Clock::time_point started{};
     std::string fault;  ///< why the supervisor stopped it, if it did
     uint64_t records = 0;  ///< worlds it has sent
@@ -48,35 +49,53 @@ std::string describe_exit(int status) {
     return "the simulation process ended unexpectedly (exit " + std::to_string(WEXITSTATUS(status)) + ")";
 }
 
-class Supervisor {
+}  // namespace
+
+class WorkerPool::Supervisor {
 public:
-    Supervisor(const SupervisedRun& run, const std::vector<uint64_t>& worlds, LibraryWriter& writer,
-               const SupervisedWorldSink& on_world)
-        : run_(run), worlds_(worlds), writer_(writer), on_world_(on_world) {}
+    explicit Supervisor(SupervisedRun run) : run_(std::move(run)) {}
 
     ~Supervisor() {
         for (Worker& w : workers_) stop(w);
     }
 
-    SamplingStatistics run(const std::atomic<bool>& cancel) {
+    SamplingStatistics run(const std::vector<WorkerTask>& tasks, LibraryWriter& writer,
+                           const SupervisedWorldSink& on_world, const std::atomic<bool>& cancel) {
         const auto start = Clock::now();
-        const size_t count = std::min<size_t>(static_cast<size_t>(std::max(1, run_.workers)), worlds_.size());
-        workers_.resize(count);
-        for (Worker& w : workers_) spawn(w);
-        while (next_ < worlds_.size() || std::any_of(workers_.begin(), workers_.end(), [](const Worker& w) { return w.busy; })) {
+        tasks_ = &tasks;
+        writer_ = &writer;
+        on_world_ = &on_world;
+        next_ = 0;
+        stats_ = {};
+        refusal_.clear();
+        const size_t wanted = std::min<size_t>(static_cast<size_t>(std::max(1, run_.workers)), tasks.size());
+        if (workers_.size() < wanted) workers_.resize(wanted);
+        for (Worker& w : workers_) {
+            if (next_ >= tasks.size()) break;
+            if (w.pid < 0) spawn(w);
+            assign_next(w);
+        }
+        while (next_ < tasks.size() || any_busy()) {
             if (cancel.load()) {
                 stats_.worlds_cancelled += std::count_if(workers_.begin(), workers_.end(), [](const Worker& w) { return w.busy; });
+                for (Worker& w : workers_) stop(w);
                 break;
             }
             wait_for_workers();
             enforce_time_limit();
         }
-        for (Worker& w : workers_) stop(w);
         stats_.wall_time_s = std::chrono::duration<double>(Clock::now() - start).count();
+        tasks_ = nullptr;
         return stats_;
     }
 
+    const std::string& refusal() const { return refusal_; }
+
 private:
+    bool any_busy() const {
+        return std::any_of(workers_.begin(), workers_.end(), [](const Worker& w) { return w.busy; });
+    }
+
     void spawn(Worker& w) {
         int to[2], from[2];
         if (::pipe2(to, O_CLOEXEC) != 0 || ::pipe2(from, O_CLOEXEC) != 0)
@@ -98,30 +117,31 @@ private:
         w.pid = pid;
         w.to_worker = to[1];
         w.from_worker = from[0];
-        assign_next(w);
     }
 
+    // Hands the worker the next task, if any; an idle worker waits for the next run.
     void assign_next(Worker& w) {
-        if (next_ >= worlds_.size()) {
-            // Nothing left: end of input lets the worker exit.
-            if (w.to_worker >= 0) ::close(w.to_worker);
-            w.to_worker = -1;
-            return;
-        }
-        w.world = worlds_[next_++];
+        if (next_ >= tasks_->size()) return;
+        const WorkerTask& task = (*tasks_)[next_++];
+        w.world = task.world_index;
         w.busy = true;
         w.started = Clock::now();
-        const std::string line = std::to_string(w.world) + "\n";
+        const std::string line = task.line + "\n";
         // A worker that died already shows up as the end of its output; its world is handled there.
         [[maybe_unused]] const ssize_t written = ::write(w.to_worker, line.data(), line.size());
     }
 
     void wait_for_workers() {
         std::vector<pollfd> fds;
-        for (const Worker& w : workers_) fds.push_back({w.from_worker, POLLIN, 0});
-        if (::poll(fds.data(), fds.size(), kPollInterval_ms) <= 0) return;
-        for (size_t k = 0; k < workers_.size(); ++k)
-            if (fds[k].revents & (POLLIN | POLLHUP | POLLERR)) read_from(workers_[k]);
+        std::vector<Worker*> polled;
+        for (Worker& w : workers_)
+            if (w.pid >= 0) {
+                fds.push_back({w.from_worker, POLLIN, 0});
+                polled.push_back(&w);
+            }
+        if (fds.empty() || ::poll(fds.data(), fds.size(), kPollInterval_ms) <= 0) return;
+        for (size_t k = 0; k < fds.size(); ++k)
+            if (fds[k].revents & (POLLIN | POLLHUP | POLLERR)) read_from(*polled[k]);
     }
 
     void read_from(Worker& w) {
@@ -145,7 +165,13 @@ private:
     }
 
     void store(Worker& w, const WorkerRecordHeader& h, const std::vector<uint8_t>& payload) {
-        writer_.append_record(h.type, h.version, payload);
+        w.busy = false;
+        ++w.records;
+        if (h.type == kWorkerRefusal) {
+            refusal_.assign(payload.begin(), payload.end());
+            return assign_next(w);
+        }
+        writer_->append_record(h.type, h.version, payload);
         std::string reason;
         if (h.type == kRecordTypeRejection) {
             reason = decode_rejection_record(payload.data(), payload.size(), "worker").reason;
@@ -155,13 +181,11 @@ private:
             ++stats_.worlds_ok;
         }
         slowest_s_ = std::max(slowest_s_, std::chrono::duration<double>(Clock::now() - w.started).count());
-        w.busy = false;
-        ++w.records;
-        if (on_world_) on_world_(h.world_index, h.type == kRecordTypeWorld, reason);
+        if (*on_world_) (*on_world_)(h.world_index, h.type == kRecordTypeWorld, reason);
         assign_next(w);
     }
 
-    // The worker's output ended: it exited after its input did, or it died in a world.
+    // The worker's output ended: it died in a world (or, idle, for no reason of its own).
     void worker_ended(Worker& w) {
         int status = 0;
         ::waitpid(w.pid, &status, 0);
@@ -169,13 +193,16 @@ private:
         if (w.to_worker >= 0) ::close(w.to_worker);
         w.pid = w.from_worker = w.to_worker = -1;
         if (!w.busy) return;
+        w.busy = false;
         // A worker that stops normally without a single world could not start at all (no scene,
-        // no engine): every world would fail the same way, so the run stops here.
+        // no library, no engine): every world would fail the same way, so the run stops here.
         if (w.fault.empty() && WIFEXITED(status) && w.records == 0)
             throw std::runtime_error("a simulation worker could not start (" + describe_exit(status) + ")");
         reject(w.world, w.fault.empty() ? describe_exit(status) : w.fault);
-        if (next_ < worlds_.size()) spawn(w);
-        else w.busy = false;
+        if (next_ < tasks_->size()) {
+            spawn(w);
+            assign_next(w);
+        }
     }
 
     void reject(uint64_t world_index, const std::string& reason) {
@@ -184,10 +211,10 @@ private:
         world.seed = derive_world_seed(run_.base_seed, world_index);
         world.status = WorldStatus::Rejected;
         world.reject_reason = reason;
-        writer_.append(world);
+        writer_->append(world);
         ++stats_.worlds_rejected;
         ++stats_.reject_reasons[reason];
-        if (on_world_) on_world_(world_index, false, reason);
+        if (*on_world_) (*on_world_)(world_index, false, reason);
     }
 
     double time_limit_s() const {
@@ -211,29 +238,67 @@ private:
         ::kill(w.pid, SIGKILL);
         ::waitpid(w.pid, nullptr, 0);
         ::close(w.from_worker);
-        w.pid = w.from_worker = w.to_worker = -1;
+        w = Worker{};
     }
 
-    const SupervisedRun& run_;
-    const std::vector<uint64_t>& worlds_;
-    LibraryWriter& writer_;
-    const SupervisedWorldSink& on_world_;
+    SupervisedRun run_;
     std::vector<Worker> workers_;
-    size_t next_ = 0;
     double slowest_s_ = 0;
+    // The run under way.
+    const std::vector<WorkerTask>* tasks_ = nullptr;
+    LibraryWriter* writer_ = nullptr;
+    const SupervisedWorldSink* on_world_ = nullptr;
+    size_t next_ = 0;
     SamplingStatistics stats_;
+    std::string refusal_;
 };
 
-}  // namespace
+WorkerPool::WorkerPool(SupervisedRun run) : supervisor_(std::make_unique<Supervisor>(std::move(run))) {
+    // A worker that dies leaves a broken pipe; that must not end the supervisor.
+    ::signal(SIGPIPE, SIG_IGN);
+}
+
+WorkerPool::~WorkerPool() = default;
+
+SamplingStatistics WorkerPool::run(const std::vector<WorkerTask>& tasks, LibraryWriter& writer,
+                                   const SupervisedWorldSink& on_world, const std::atomic<bool>& cancel) {
+    return supervisor_->run(tasks, writer, on_world, cancel);
+}
+
+const std::string& WorkerPool::refusal() const { return supervisor_->refusal(); }
 
 SamplingStatistics sample_supervised(const SupervisedRun& run, const std::vector<uint64_t>& worlds,
                                      LibraryWriter& writer, const SupervisedWorldSink& on_world,
                                      const std::atomic<bool>& cancel) {
     if (worlds.empty()) return {};
-    // A worker that dies leaves a broken pipe; that must not end the supervisor.
-    ::signal(SIGPIPE, SIG_IGN);
-    Supervisor supervisor(run, worlds, writer, on_world);
-    return supervisor.run(cancel);
+    std::vector<WorkerTask> tasks;
+    for (uint64_t w : worlds) tasks.push_back({w, sampled_world_line(w)});
+    WorkerPool pool(run);
+    return pool.run(tasks, writer, on_world, cancel);
+}
+
+const std::atomic<bool>& SupervisedWorlds::cancel_of(const SamplingProgress* progress) const {
+    return progress ? progress->cancel : never_cancelled_;
+}
+
+SamplingStatistics SupervisedWorlds::sample(const CompiledScene&, uint64_t, const std::vector<uint64_t>& indices,
+                                            LibraryWriter& writer, const MadeWorldSink& on_world,
+                                            SamplingProgress* progress) {
+    std::vector<WorkerTask> tasks;
+    for (uint64_t w : indices) tasks.push_back({w, sampled_world_line(w)});
+    return pool_.run(tasks, writer, on_world, cancel_of(progress));
+}
+
+SamplingStatistics SupervisedWorlds::refine(const CompiledScene&, uint64_t, const RefinementJob& job,
+                                            LibraryWriter& writer, const MadeWorldSink& on_world,
+                                            SamplingProgress* progress) {
+    std::vector<WorkerTask> tasks;
+    for (size_t k = 0; k < job.children.size(); ++k)
+        tasks.push_back({job.children[k].world_index, refined_child_line(job, k)});
+    const SamplingStatistics stats = pool_.run(tasks, writer, on_world, cancel_of(progress));
+    // Every child of the job has the same parent: a refusal is every worker's.
+    if (!pool_.refusal().empty()) throw WorldNotReproduced(pool_.refusal());
+    return stats;
 }
 
 }  // namespace mwb

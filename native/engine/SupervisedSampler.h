@@ -1,15 +1,18 @@
 #pragma once
-// Sampling in worker processes under a supervisor, so that no world can end the run: a world that
-// makes ODE abort, crash or hang takes down only its worker. The supervisor stores it as a
-// rejection naming the fault, starts a new worker and goes on; every other world is stored exactly
-// as an in-process run would store it (a world is a pure function of its index).
+// Worlds simulated in worker processes under a supervisor, so that no world can end a run: a
+// world that makes ODE abort, crash or hang takes down only its worker. The supervisor stores it
+// as a rejection naming the fault, starts a new worker and goes on; every other world is stored
+// exactly as an in-process run would store it (a world is a pure function of its index and
+// lineage). Sampling, refinement and the goal search all run their worlds this way.
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "library/LibraryWriter.h"
+#include "refine/WorldMaker.h"
 #include "sampler/Sampler.h"
 
 namespace mwb {
@@ -26,12 +29,57 @@ struct SupervisedRun {
 
 /// Called in the supervisor's thread after each world's record was appended (or after a world
 /// was rejected for a fault); `reason` says why a rejected world was rejected.
-using SupervisedWorldSink = std::function<void(uint64_t world_index, bool stored, const std::string& reason)>;
+using SupervisedWorldSink = MadeWorldSink;
 
-/// Samples `worlds` in worker processes, appending each record to `writer` as it arrives (in
-/// completion order). Setting `cancel` stops every worker at once; finished worlds stay stored.
+/// One world for a worker: its index and the line that tells the worker what to simulate
+/// (engine/WorkerJob.h).
+struct WorkerTask {
+    uint64_t world_index = 0;
+    std::string line;
+};
+
+/// Worker processes kept from one batch of worlds to the next (a worker keeps the lineages it
+/// simulated, so refining one of its worlds again does not start over).
+class WorkerPool {
+public:
+    explicit WorkerPool(SupervisedRun run);
+    ~WorkerPool();
+    WorkerPool(const WorkerPool&) = delete;
+    WorkerPool& operator=(const WorkerPool&) = delete;
+
+    /// Runs `tasks`, appending each record to `writer` as it arrives (in completion order).
+    /// Setting `cancel` stops every worker at once; finished worlds stay stored. A task a worker
+    /// refuses (its parent does not come out as stored) appends nothing; refusal() says why.
+    SamplingStatistics run(const std::vector<WorkerTask>& tasks, LibraryWriter& writer,
+                           const SupervisedWorldSink& on_world, const std::atomic<bool>& cancel);
+    const std::string& refusal() const;
+
+private:
+    class Supervisor;
+    std::unique_ptr<Supervisor> supervisor_;
+};
+
+/// Samples `worlds` with the workers of `run` (see WorkerPool::run).
 SamplingStatistics sample_supervised(const SupervisedRun& run, const std::vector<uint64_t>& worlds,
                                      LibraryWriter& writer, const SupervisedWorldSink& on_world,
                                      const std::atomic<bool>& cancel);
+
+/// The worlds of a refinement or a goal search, each in a worker process reading the library
+/// (`mwb-engine worker --library PATH`); see WorldMaker.
+class SupervisedWorlds : public WorldMaker {
+public:
+    explicit SupervisedWorlds(SupervisedRun run) : pool_(std::move(run)) {}
+
+    SamplingStatistics sample(const CompiledScene& sampled, uint64_t base_seed, const std::vector<uint64_t>& indices,
+                              LibraryWriter& writer, const MadeWorldSink& on_world, SamplingProgress* progress) override;
+    SamplingStatistics refine(const CompiledScene& scene, uint64_t base_seed, const RefinementJob& job,
+                              LibraryWriter& writer, const MadeWorldSink& on_world, SamplingProgress* progress) override;
+
+private:
+    const std::atomic<bool>& cancel_of(const SamplingProgress* progress) const;
+
+    WorkerPool pool_;
+    std::atomic<bool> never_cancelled_{false};
+};
 
 }  // namespace mwb

@@ -8,13 +8,19 @@
 #include <cstring>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <string>
 
+#include "WorkerJob.h"
 #include "library/LibraryFormat.h"
+#include "library/LibraryReader.h"
 #include "library/WorldRecordEncoder.h"
+#include "refine/LineageCache.h"
+#include "refine/RefineError.h"
 #include "scene/SceneJson.h"
 #include "sim/OdeWorld.h"
 #include "sim/SharedPrefix.h"
+#include "sim/WorldSimulator.h"
 
 namespace mwb {
 namespace {
@@ -66,29 +72,77 @@ void send_record(uint64_t world_index, uint32_t type, uint32_t version, const st
     write_all(payload.data(), payload.size());
 }
 
+void send_world(const WorldResult& world, const CodecBounds& bounds, const Vec3& gravity) {
+    if (world.status == WorldStatus::Ok)
+        send_record(world.world_index, kRecordTypeWorld, kWorldRecordVersion, encode_world_record(world, bounds, gravity));
+    else if (world.status == WorldStatus::Rejected)
+        send_record(world.world_index, kRecordTypeRejection, kRejectionRecordVersion, encode_rejection_record(world));
+}
+
+// Lineages a worker keeps: a search refines the children it made again and again. Workers share
+// the machine, so each keeps a share of what one in-process search would.
+constexpr size_t kWorkerLineageBytes = size_t{768} << 20;
+
+// A library's run: sampled worlds in the scene as sampled, refined children in the scene now.
+int run_library_worker(const EngineOptions& options, const std::map<uint64_t, std::string>& faults) {
+    const LibraryReader reader(options.library_path);
+    const RunHeader& header = reader.header();
+    Scene sampled_scene = scene_from_json(header.scene_json);
+    const size_t sampled_bodies = sampled_scene.bodies.size();
+    const Vec3 gravity = sampled_scene.world.gravity;
+    const CompiledScene sampled(std::move(sampled_scene), header.parameters);
+    // Bodies added by refinements since sampling (a scene revision) are in refined children only.
+    std::optional<CompiledScene> revised;
+    if (reader.scene_revision() > 0) revised.emplace(scene_from_json(reader.scene_json()), header.parameters, sampled_bodies);
+    const CompiledScene& scene_now = revised ? *revised : sampled;
+    initialize_ode_once();
+    PrefixSharingSimulator simulator(sampled, header.base_seed, true);
+    LineageCache kept(kWorkerLineageBytes);
+    std::string line;
+    while (std::getline(std::cin, line)) {
+        const WorkerJob job = parse_worker_line(line);
+        const auto fault = faults.find(job.world_index);
+        if (fault != faults.end()) fail_as_injected(fault->second);
+        if (!job.refined) {
+            const WorldResult world = simulator.simulate(job.world_index);
+            kept.keep(world);
+            send_world(world, header.bounds, gravity);
+            continue;
+        }
+        std::vector<WorldResult> chain;
+        try {
+            chain = exact_lineage(scene_now, header.base_seed, job.refinement, &kept);
+        } catch (const WorldNotReproduced& refused) {
+            const std::string message = refused.what();
+            send_record(job.world_index, kWorkerRefusal, 0, std::vector<uint8_t>(message.begin(), message.end()));
+            continue;
+        }
+        const WorldResult child = refine_world(scene_now, header.base_seed, chain, job.refinement.children.front());
+        if (!job.refinement.scene_changed) kept.keep(child);
+        send_world(child, header.bounds, gravity);
+    }
+    return 0;
+}
+
 }  // namespace
 
 int run_world_worker(const EngineOptions& options) {
     // Ctrl-C reaches the whole process group; cancelling is the supervisor's decision.
     std::signal(SIGINT, SIG_IGN);
+    const std::map<uint64_t, std::string> faults = injected_faults();
+    if (!options.library_path.empty()) return run_library_worker(options, faults);
     const Scene scene = load_scene_file(options.scene_path);
     const Vec3 gravity = scene.world.gravity;
     const CompiledScene compiled(scene, options.parameters);
-    const std::map<uint64_t, std::string> faults = injected_faults();
     initialize_ode_once();
     // A worker lives for many worlds: the later ones share the first one's prefix.
     PrefixSharingSimulator simulator(compiled, options.base_seed, options.share_prefix);
     std::string line;
     while (std::getline(std::cin, line)) {
-        const uint64_t world_index = std::stoull(line);
-        const auto fault = faults.find(world_index);
+        const WorkerJob job = parse_worker_line(line);
+        const auto fault = faults.find(job.world_index);
         if (fault != faults.end()) fail_as_injected(fault->second);
-        const WorldResult world = simulator.simulate(world_index);
-        if (world.status == WorldStatus::Ok)
-            send_record(world_index, kRecordTypeWorld, kWorldRecordVersion,
-                        encode_world_record(world, options.bounds, gravity));
-        else if (world.status == WorldStatus::Rejected)
-            send_record(world_index, kRecordTypeRejection, kRejectionRecordVersion, encode_rejection_record(world));
+        send_world(simulator.simulate(job.world_index), options.bounds, gravity);
     }
     return 0;
 }

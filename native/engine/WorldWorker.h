@@ -18,10 +18,15 @@ struct WorkerRecordHeader {
     uint32_t size = 0;  ///< payload bytes that follow
 };
 constexpr size_t kWorkerRecordHeaderBytes = 20;
+/// WorkerRecordHeader::type of a job the worker refuses (the world it refines does not come out
+/// as stored); the payload is the message. Never a library record type.
+constexpr uint32_t kWorkerRefusal = 0xFFFFFFFFu;
 
-/// Reads world indices, one decimal number per line, on standard input until it ends; simulates
-/// each with the run of `options` (scene, seed, parameters, bounds) and writes its record to
-/// standard output as a WorkerRecordHeader followed by the payload. Returns the exit code.
+/// Reads jobs (engine/WorkerJob.h), one per line, on standard input until it ends; simulates each
+/// and writes its record to standard output as a WorkerRecordHeader followed by the payload.
+/// With options.library_path the run is that library's (sampled worlds and refined children);
+/// otherwise it is the sampling run of `options` (scene, seed, parameters, bounds), sampled
+/// worlds only. Returns the exit code.
 int run_world_worker(const EngineOptions& options);
 
 }  // namespace mwb

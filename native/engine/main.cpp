@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <memory>
 #include <set>
 #include <sstream>
 
@@ -31,6 +32,7 @@
 #include "library/LibraryMerge.h"
 #include "library/LibraryWriter.h"
 #include "refine/StoredWorldRefinement.h"
+#include "refine/WorldMaker.h"
 #include "sampler/Sampler.h"
 #include "scene/SceneJson.h"
 #include "seek/GoalJson.h"
@@ -66,6 +68,20 @@ void listen_for_cancel(const EngineOptions& options) {
     std::signal(SIGINT, request_cancel);
     std::signal(SIGTERM, request_cancel);
     if (options.events) listen_for_cancel_on_stdin(g_progress.cancel);
+}
+
+// Where a refinement's or a search's worlds are simulated: each in a supervised worker process
+// reading the library, so that one that crashes ODE is rejected and the rest go on; with
+// --in-process (and on Windows) on this process's threads.
+std::unique_ptr<WorldMaker> world_maker(const EngineOptions& options, uint64_t base_seed, size_t cache_bytes) {
+    if (options.in_process || !kWorkerProcesses) return std::make_unique<InProcessWorlds>(options.threads, cache_bytes);
+#ifndef _WIN32
+    SupervisedRun run{own_executable(), {"worker", "--library", options.library_path},
+                      options.threads > 0 ? options.threads : omp_get_max_threads(), base_seed, options.world_time_limit_s};
+    return std::make_unique<SupervisedWorlds>(std::move(run));
+#else
+    return nullptr;
+#endif
 }
 
 int exit_status(bool cancelled) {
@@ -174,12 +190,12 @@ int run_refine(const EngineOptions& options, EngineEvents& events) {
     LibraryWriter writer(options.library_path, reader.header());
     listen_for_cancel(options);
     uint64_t finished = 0;
+    const std::unique_ptr<WorldMaker> maker = world_maker(options, reader.header().base_seed, 0);
     const RefineOutcome outcome = refine_stored_world(
-        reader, request, writer,
-        [&](WorldResult&& world) {
-            if (world.status == WorldStatus::Cancelled) return;
+        reader, request, writer, *maker,
+        [&](uint64_t world_index, bool stored, const std::string& reason) {
             ++finished;
-            events.world(world.world_index, world.status == WorldStatus::Ok, world.reject_reason);
+            events.world(world_index, stored, reason);
             events.progress(finished, request.count, {}, worlds_done_text("refined", finished, request.count));
         },
         &g_progress);
@@ -253,6 +269,8 @@ int run_seek(const EngineOptions& options, EngineEvents& events) {
     request.seed = options.base_seed;
     request.threads = options.threads;
     listen_for_cancel(options);
+    const std::unique_ptr<WorldMaker> maker =
+        world_maker(options, read_run_header(options.library_path).base_seed, request.cache_bytes);
     const SeekOutcome outcome = seek_goal(
         options.library_path, request,
         [&](const SeekStatus& s) {
@@ -268,7 +286,7 @@ int run_seek(const EngineOptions& options, EngineEvents& events) {
                                {"worlds_meeting_goal", s.worlds_meeting_goal}}}},
                             text.str());
         },
-        &g_progress);
+        &g_progress, maker.get());
     const nlohmann::json fields{{"reached", outcome.reached},         {"found", outcome.found},
                                 {"best", outcome.best_world},         {"best_boxes_met", outcome.best_boxes_met},
                                 {"boxes", outcome.box_count},         {"worlds_made", outcome.worlds_made},

@@ -428,7 +428,7 @@ TEST_F(Library, AWorldThatDoesNotReproduceNamesBothBuilds) {
     LibraryWriter writer(file, reader.header());
     RefineRequest request;
     request.parent_world = 0;
-    request.bodies = {1};
+    request.bodies = {5};  // the first box (0 is the ground, 1-4 the walls)
     request.branch_time_s = 0.5;
     try {
         refine_stored_world(reader, request, writer, [](WorldResult&&) {});

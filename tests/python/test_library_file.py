@@ -6,6 +6,7 @@ import random
 import signal
 import subprocess
 import time
+import zlib
 
 import numpy as np
 import pytest
@@ -381,6 +382,115 @@ def test_worlds_that_crash_or_hang_are_rejected_and_the_run_goes_on(native, engi
     # Sampling the range again with the faults gone fills nothing in: a rejected world is a result.
     rerun = run_engine(engine, "sample", "--scene", QUICKSTART, "--out", str(faulty), "--seed", "4", "--worlds", "0:24")
     assert "skipped 24 already stored" in rerun.stdout
+
+
+FAULT_WORDS = {"abort": "Aborted", "segv": "Segmentation fault", "hang": "did not finish within 3 s"}
+
+
+def assert_stored_alike(library, reference, worlds):
+    """Each of `worlds` has the same motion and lineage in both libraries."""
+    for w in worlds:
+        np.testing.assert_array_equal(library.positions(w), reference.positions(w))
+        np.testing.assert_array_equal(library.orientations(w), reference.orientations(w))
+        assert lineage_tuples(library.world_info(w)) == lineage_tuples(reference.world_info(w)), w
+
+
+def test_refined_children_that_crash_or_hang_are_rejected_and_their_siblings_stored_as_without(native, engine,
+                                                                                              tmp_path):
+    """A refinement runs its children in the supervisor's worker processes: children that abort,
+    segfault or hang are stored as rejections naming the fault, and every other child is stored
+    exactly as a refinement in one process stores it."""
+    clean, faulty = tmp_path / "clean.mwb", tmp_path / "faulty.mwb"
+    for out in (clean, faulty):
+        sample(engine, out, "--worlds", "0:4")
+    die = native.Scene.from_json(native.Library(str(clean)).header.scene_json).body_names.index("Die")
+    refine = ["refine", "--world", "2", "--bodies", str(die), "--time", "0.8", "--count", "8", "--threads", "2"]
+    result = run_engine(engine, *refine[:1], "--library", str(clean), *refine[1:], "--in-process")
+    assert result.returncode == 0, result.stderr
+    faults = {5: "abort", 7: "segv", 10: "hang"}
+    env = dict(os.environ, MWB_ENGINE_TEST_FAULTS=",".join(f"{w}:{f}" for w, f in faults.items()))
+    result = subprocess.run([engine, *refine[:1], "--library", str(faulty), *refine[1:], "--world-time-limit", "3"],
+                            capture_output=True, text=True, env=env)
+    assert result.returncode == 0, result.stderr
+    assert "5 stored, 3 rejected" in result.stdout, result.stdout
+    library, reference = native.Library(str(faulty)), native.Library(str(clean))
+    reasons = {world: reason for world, _, reason in library.rejections}
+    assert sorted(reasons) == sorted(faults)
+    for world, fault in faults.items():
+        assert FAULT_WORDS[fault] in reasons[world], reasons[world]
+    assert sorted(library.world_indices) == sorted(set(range(12)) - set(faults))
+    assert_stored_alike(library, reference, library.world_indices)
+
+
+def test_a_seek_whose_children_crash_or_hang_goes_on_and_stores_every_other_world_as_without(native, engine,
+                                                                                            tmp_path):
+    """A goal search runs every world it makes in the supervisor's workers. Refined children that
+    abort, segfault or hang (ones the search would not have refined again) are stored as
+    rejections naming the fault; the search goes on and every other world it makes is the world
+    a search in one process makes, with the same lineage."""
+    base = tmp_path / "base.mwb"
+    sample(engine, base, "--worlds", "0:8")
+    goal = tmp_path / "upright.goal.json"
+    upright = {"within_deg": 8, "time_window": [3.0, 4.0]}
+    goal.write_text(json.dumps({"boxes": [], "orientations": [dict(upright, objects=["Die"]),
+                                                             dict(upright, objects=["Can"])]}))
+    seek = ["--goal", str(goal), "--budget-worlds", "120", "--seed", "3", "--json"]
+    clean, faulty = tmp_path / "clean.mwb", tmp_path / "faulty.mwb"
+    for out in (clean, faulty):
+        out.write_bytes(base.read_bytes())
+    result = run_engine(engine, "seek", "--library", str(clean), *seek, "--threads", "2", "--in-process")
+    assert result.returncode == 0, result.stderr
+    reference = native.Library(str(clean))
+    parents = {reference.world_info(w).parent_world for w in reference.world_indices}
+    leaves = sorted(w for w in reference.world_indices if w >= 8 and w not in parents)
+    assert len(leaves) > 30, "the search refined its worlds"
+    faults = dict(zip((leaves[2], leaves[len(leaves) // 2], leaves[-3]), ("abort", "segv", "hang")))
+    env = dict(os.environ, MWB_ENGINE_TEST_FAULTS=",".join(f"{w}:{f}" for w, f in faults.items()))
+    result = subprocess.run([engine, "seek", "--library", str(faulty), *seek, "--threads", "2", "--world-time-limit", "3"],
+                            capture_output=True, text=True, env=env)
+    assert result.returncode == 0, result.stderr
+    library = native.Library(str(faulty))
+    reasons = {world: reason for world, _, reason in library.rejections}
+    assert sorted(reasons) == sorted(faults)
+    for world, fault in faults.items():
+        assert FAULT_WORDS[fault] in reasons[world], reasons[world]
+    assert sorted(library.world_indices) == sorted(set(reference.world_indices) - set(faults))
+    assert_stored_alike(library, reference, library.world_indices)
+    # One worker makes the same worlds as two.
+    one = tmp_path / "one.mwb"
+    one.write_bytes(base.read_bytes())
+    assert run_engine(engine, "seek", "--library", str(one), *seek, "--threads", "1").returncode == 0
+    alone = native.Library(str(one))
+    assert sorted(alone.world_indices) == sorted(reference.world_indices)
+    assert_stored_alike(alone, reference, alone.world_indices)
+
+
+def test_a_library_whose_worlds_do_not_reproduce_is_refused_by_refine_and_seek_writing_nothing(native, engine,
+                                                                                              tmp_path):
+    """A header that says another seed and another build than the worlds were made with stands for
+    a library of another engine build: the supervised workers find that the world does not come
+    out as stored, and refine and seek refuse it in one line naming the build, appending nothing."""
+    out = tmp_path / "foreign.mwb"
+    sample(engine, out, "--worlds", "0:4")
+    data = out.read_bytes()
+    size = int.from_bytes(data[12:16], "little")
+    header = json.loads(data[16:16 + size])
+    header["base_seed"], header["engine"] = 5, "many-worlds 0.0.9; another build"
+    text = json.dumps(header).encode()
+    out.write_bytes(data[:12] + len(text).to_bytes(4, "little") + text +
+                    zlib.crc32(text).to_bytes(4, "little") + data[16 + size + 4:])
+    before = out.read_bytes()
+    die = native.Scene.from_json(native.Library(str(out)).header.scene_json).body_names.index("Die")
+    result = run_engine(engine, "refine", "--library", str(out), "--world", "1", "--bodies", str(die), "--time",
+                        "1.0", "--count", "4", "--threads", "2")
+    assert result.returncode == 2, result.stderr
+    assert "world 1 does not come out as stored" in result.stderr and "another build" in result.stderr, result.stderr
+    assert out.read_bytes() == before
+    goal = tmp_path / "g.json"
+    goal.write_text(json.dumps({"boxes": [], "orientations": [{"objects": ["Die"], "within_deg": 1}]}))
+    result = run_engine(engine, "seek", "--library", str(out), "--goal", str(goal), "--budget-worlds", "16")
+    assert result.returncode == 2 and "does not come out as stored" in result.stderr, result.stderr
+    assert out.read_bytes() == before
 
 
 def test_worlds_that_start_alike_share_their_prefix_and_store_the_same_bytes(native, engine, tmp_path):

@@ -34,14 +34,13 @@ std::shared_ptr<const WorldResult> LineageCache::find(uint64_t world_index) {
     return it->second.world;
 }
 
-std::vector<WorldResult> LineageCache::chain(uint64_t root_world, const std::vector<RefineStep>& lineage) {
-    std::vector<std::shared_ptr<const WorldResult>> found{find(root_world)};
-    for (const RefineStep& step : lineage) found.push_back(find(step.world_index));
+std::vector<WorldResult> LineageCache::kept_start(uint64_t root_world, const std::vector<RefineStep>& lineage) {
     std::vector<WorldResult> chain;
-    for (const auto& w : found)
-        if (!w) return {};
-    chain.reserve(found.size());
-    for (const auto& w : found) chain.push_back(*w);
+    for (size_t k = 0; k <= lineage.size(); ++k) {
+        const auto kept = find(k == 0 ? root_world : lineage[k - 1].world_index);
+        if (!kept) break;
+        chain.push_back(*kept);
+    }
     return chain;
 }
 

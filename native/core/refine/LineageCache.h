@@ -18,9 +18,9 @@ public:
 
     /// Keeps a copy of `world` (an exact world of this run, as the simulator made it).
     void keep(const WorldResult& world);
-    /// The exact lineage ending in a world with root `root_world` and refinements `lineage`, as
-    /// simulate_lineage would return it, if every world of it is kept; otherwise empty.
-    std::vector<WorldResult> chain(uint64_t root_world, const std::vector<RefineStep>& lineage);
+    /// The start of the exact lineage with root `root_world` and refinements `lineage`, as
+    /// simulate_lineage would return it, as far as its worlds are kept (empty: not the root).
+    std::vector<WorldResult> kept_start(uint64_t root_world, const std::vector<RefineStep>& lineage);
 
     size_t bytes() const { return bytes_; }
 

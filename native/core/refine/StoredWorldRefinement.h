@@ -4,30 +4,17 @@
 // update bodies from t = 0. The engine, the bindings and a search that refines many times in one
 // process all call this.
 #include <cstdint>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "library/LibraryReader.h"
 #include "library/LibraryWriter.h"
-#include "refine/LineageCache.h"
+#include "refine/RefineError.h"
+#include "refine/WorldMaker.h"
 #include "sampler/Sampler.h"
 #include "scene/Scene.h"
 
 namespace mwb {
-
-/// A request that does not fit the library (no such world, a body it lacks, a world that does not
-/// reproduce); the message is one line.
-struct RefineError : std::runtime_error {
-    using std::runtime_error::runtime_error;
-};
-
-/// A stored world that does not come out as stored when simulated again: the library was made by
-/// another engine build (or is damaged). No refinement of that library can succeed, so callers
-/// that try several requests (the goal search) stop on it.
-struct WorldNotReproduced : RefineError {
-    using RefineError::RefineError;
-};
 
 struct RefineRequest {
     uint64_t parent_world = 0;
@@ -54,12 +41,16 @@ struct RefineOutcome {
 };
 
 /// Refines world `request.parent_world` of the library `reader` has read, appending to `writer`
-/// (the same file) a scene revision when the scene grew, then each child as it finishes, in
-/// parallel. `on_world` is called after each append, from a worker thread, never concurrently.
-/// Throws RefineError before anything is written when the request does not fit. With `cache`, a
-/// parent whose lineage it keeps is not re-simulated, and the lineage and children are kept in it.
+/// (the same file) a scene revision when the scene grew, then each child as `maker` finishes it.
+/// `on_world` is called after each append, never concurrently. Throws RefineError before
+/// anything is written when the request does not fit. A maker that keeps lineages (a search's)
+/// does not re-simulate a parent whose lineage it keeps.
 RefineOutcome refine_stored_world(const LibraryReader& reader, const RefineRequest& request, LibraryWriter& writer,
-                                  const WorldSink& on_world = {}, SamplingProgress* progress = nullptr,
-                                  LineageCache* cache = nullptr);
+                                  WorldMaker& maker, const MadeWorldSink& on_world = {},
+                                  SamplingProgress* progress = nullptr);
+
+/// The same on this process's threads (request.threads); `on_world` gets each finished child.
+RefineOutcome refine_stored_world(const LibraryReader& reader, const RefineRequest& request, LibraryWriter& writer,
+                                  const WorldSink& on_world = {}, SamplingProgress* progress = nullptr);
 
 }  // namespace mwb

@@ -7,7 +7,6 @@
 
 #include "library/LibraryReader.h"
 #include "library/LibraryWriter.h"
-#include "refine/LineageCache.h"
 #include "refine/StoredWorldRefinement.h"
 #include "scene/SceneJson.h"
 #include "seek/BranchPlanner.h"
@@ -33,14 +32,15 @@ constexpr uint32_t kBeamPerFamily = 1;
 class GoalSearch {
 public:
     GoalSearch(const std::string& path, const SeekRequest& request, const SeekListener& on_status,
-               SamplingProgress* progress)
+               SamplingProgress* progress, WorldMaker* maker)
         : request_(request),
           on_status_(on_status),
           progress_(progress ? progress : &own_progress_),
           reader_(path, ReaderOptions{false, kPolylineHz}),
           writer_(path, reader_.header()),
           scene_(scene_from_json(reader_.scene_json())),
-          cache_(request.cache_bytes),
+          own_maker_(request.threads, request.cache_bytes),
+          maker_(maker ? *maker : own_maker_),
           start_(std::chrono::steady_clock::now()) {
         check_request();
         worlds_.emplace(reader_, scene_, request_.boxes, request_.threads);
@@ -114,7 +114,7 @@ private:
         refine.threads = request_.threads;
         RefineOutcome outcome;
         try {
-            outcome = refine_stored_world(reader_, refine, writer_, {}, progress_, &cache_);
+            outcome = refine_stored_world(reader_, refine, writer_, maker_, {}, progress_);
         } catch (const WorldNotReproduced&) {
             throw;  // another build's library: no branch point of it can be refined here
         } catch (const RefineError&) {
@@ -156,12 +156,7 @@ private:
         const CompiledScene compiled(scene_from_json(header.scene_json), header.parameters);
         std::vector<uint64_t> indices;
         for (uint64_t k = 0; k < count; ++k) indices.push_back(reader_.next_world_index() + k);
-        sample_world_list(compiled, header.base_seed, indices, request_.threads,
-                          [&](WorldResult&& world) {
-                              writer_.append(world);
-                              cache_.keep(world);
-                          },
-                          progress_);
+        maker_.sample(compiled, header.base_seed, indices, writer_, {}, progress_);
         made_ += count;
         // Worlds sampled now are new candidates; spent ones stay spent.
     }
@@ -202,7 +197,8 @@ private:
     LibraryReader reader_;
     LibraryWriter writer_;
     Scene scene_;
-    LineageCache cache_;
+    InProcessWorlds own_maker_;
+    WorldMaker& maker_;
     std::chrono::steady_clock::time_point start_;
     // Made once the request is checked (they take its goal order and bodies as given).
     std::optional<ScoredWorlds> worlds_;
@@ -224,8 +220,8 @@ std::vector<uint64_t> worlds_meeting_goal(const std::string& library_path, const
 }
 
 SeekOutcome seek_goal(const std::string& library_path, const SeekRequest& request, const SeekListener& on_status,
-                      SamplingProgress* progress) {
-    GoalSearch search(library_path, request, on_status, progress);
+                      SamplingProgress* progress, WorldMaker* maker) {
+    GoalSearch search(library_path, request, on_status, progress, maker);
     return search.run();
 }
 

@@ -15,6 +15,7 @@
 
 #include "query/GoalScore.h"
 #include "query/PathIndex.h"
+#include "refine/WorldMaker.h"
 #include "sampler/Sampler.h"
 
 namespace mwb {
@@ -63,8 +64,9 @@ std::vector<uint64_t> worlds_meeting_goal(const std::string& library_path, const
 /// number of threads. Setting progress->cancel stops it at the next world; every world made so
 /// far is in the file. Throws GoalError for a goal that does not fit the library,
 /// WorldNotReproduced when its worlds were made by another engine build, and LibraryError when
-/// the file cannot be read or written.
+/// the file cannot be read or written. `maker` simulates the worlds (nullptr: this process's
+/// threads, keeping up to request.cache_bytes of lineages).
 SeekOutcome seek_goal(const std::string& library_path, const SeekRequest& request, const SeekListener& on_status = {},
-                      SamplingProgress* progress = nullptr);
+                      SamplingProgress* progress = nullptr, WorldMaker* maker = nullptr);
 
 }  // namespace mwb

@@ -82,6 +82,10 @@ void check_refinement(const CompiledScene& compiled, const std::vector<WorldResu
         throw std::invalid_argument("refinement needs a complete, valid parent world");
     if (chain.size() != parent.lineage.size() + 1)
         throw std::invalid_argument("the chain does not match the parent's lineage");
+    check_refinement(compiled, RefinedParent{parent.world_index, parent.frame_count, parent.present}, step);
+}
+
+void check_refinement(const CompiledScene& compiled, const RefinedParent& parent, const RefineStep& step) {
     if (step.branch_step % compiled.steps_per_frame() != 0 ||
         step.branch_step / compiled.steps_per_frame() >= parent.frame_count)
         throw std::invalid_argument("branch step " + std::to_string(step.branch_step) + " is not a frame of the parent");

@@ -27,7 +27,17 @@ std::vector<WorldResult> simulate_lineage(const CompiledScene& compiled, uint64_
                                           const std::vector<RefineStep>& lineage,
                                           const std::atomic<bool>* cancel = nullptr);
 
-/// Throws std::invalid_argument (saying why) if `step` cannot refine the end of `chain`.
+/// What check_refinement needs to know of the world refined (a stored world tells it without
+/// being simulated again).
+struct RefinedParent {
+    uint64_t world_index = 0;
+    uint32_t frame_count = 0;
+    std::vector<uint8_t> present{};  ///< per scene body; empty: every body
+};
+
+/// Throws std::invalid_argument (saying why) if `step` cannot refine `parent`.
+void check_refinement(const CompiledScene& compiled, const RefinedParent& parent, const RefineStep& step);
+/// The same for the end of `chain`, which must also be a complete, valid, exact lineage.
 void check_refinement(const CompiledScene& compiled, const std::vector<WorldResult>& chain, const RefineStep& step);
 
 /// One refinement of an exact lineage `chain` (as simulate_lineage returns): world `step`.
