@@ -3,9 +3,12 @@ measures what that costs against sampling in the engine's own process (the same 
 side, alternating), and checks that a run with crashing and hanging worlds loses nothing else.
 
 /usr/bin/python3 tests/bench/bench_faults.py BUILD_DIR
-Prints a table and `BENCH supervised_throughput_ratio`, `worlds_per_min_50body_engine` and
-`fault_worlds_lost`.
+Prints a table and `BENCH supervised_throughput_ratio`, `worlds_per_min_50body_engine`,
+`fault_worlds_lost` and `supervised_seek_ratio` (a goal search's wall time in its own threads /
+with every world in a worker process: each worker re-simulates the parents it did not make).
 """
+import json
+import shutil
 import os
 import statistics
 import subprocess
@@ -62,6 +65,26 @@ def main():
             same = w in got.world_indices and (got.positions(w) == want.positions(w)).all()
             lost += not same
         report("fault_worlds_lost", lost, "worlds", f"beyond the {len(faults)} faulty ones of 60 (target 0)")
+
+        # A goal search of a fixed budget in worlds makes the same worlds either way.
+        _, base = timed_sample(folder, QUICKSTART, 8)
+        goal = os.path.join(folder, "upright.goal.json")
+        with open(goal, "w") as f:
+            upright = {"within_deg": 8, "time_window": [3.0, 4.0]}
+            json.dump({"boxes": [], "orientations": [dict(upright, objects=[o]) for o in ("Die", "Can", "Cone")]}, f)
+        seek_ratios = []
+        for _ in range(3):
+            times = {}
+            for mode, extra in (("inside", ["--in-process"]), ("outside", [])):
+                library = os.path.join(folder, f"seek_{mode}.mwb")
+                shutil.copy(base, library)
+                start = time.perf_counter()
+                subprocess.run([ENGINE, "seek", "--library", library, "--goal", goal, "--budget-worlds", "400",
+                                "--seed", "1", "--threads", "2", *extra], check=True, capture_output=True)
+                times[mode] = time.perf_counter() - start
+            seek_ratios.append(times["inside"] / times["outside"])
+        report("supervised_seek_ratio", statistics.median(seek_ratios), "x",
+               "seek wall time in-process / supervised, 400 quick-start worlds, median of 3 pairs")
 
 
 if __name__ == "__main__":
