@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <csignal>
 #include <cstdlib>
@@ -79,9 +80,10 @@ void send_world(const WorldResult& world, const CodecBounds& bounds, const Vec3&
         send_record(world.world_index, kRecordTypeRejection, kRejectionRecordVersion, encode_rejection_record(world));
 }
 
-// Lineages a worker keeps: a search refines the children it made again and again. Workers share
-// the machine, so each keeps a share of what one in-process search would.
-constexpr size_t kWorkerLineageBytes = size_t{768} << 20;
+// Lineages the workers of one run keep between them (a search refines the children it made again
+// and again), each a share by the number of workers (--threads), but never less than the least.
+constexpr size_t kWorkersLineageBytes = size_t{1536} << 20;
+constexpr size_t kLeastWorkerLineageBytes = size_t{256} << 20;
 
 // A library's run: sampled worlds in the scene as sampled, refined children in the scene now.
 int run_library_worker(const EngineOptions& options, const std::map<uint64_t, std::string>& faults) {
@@ -97,7 +99,8 @@ int run_library_worker(const EngineOptions& options, const std::map<uint64_t, st
     const CompiledScene& scene_now = revised ? *revised : sampled;
     initialize_ode_once();
     PrefixSharingSimulator simulator(sampled, header.base_seed, true);
-    LineageCache kept(kWorkerLineageBytes);
+    const size_t workers = options.threads > 0 ? static_cast<size_t>(options.threads) : 1;
+    LineageCache kept(std::max(kLeastWorkerLineageBytes, kWorkersLineageBytes / workers));
     std::string line;
     while (std::getline(std::cin, line)) {
         const WorkerJob job = parse_worker_line(line);

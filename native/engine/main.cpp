@@ -76,8 +76,9 @@ void listen_for_cancel(const EngineOptions& options) {
 std::unique_ptr<WorldMaker> world_maker(const EngineOptions& options, uint64_t base_seed, size_t cache_bytes) {
     if (options.in_process || !kWorkerProcesses) return std::make_unique<InProcessWorlds>(options.threads, cache_bytes);
 #ifndef _WIN32
-    SupervisedRun run{own_executable(), {"worker", "--library", options.library_path},
-                      options.threads > 0 ? options.threads : omp_get_max_threads(), base_seed, options.world_time_limit_s};
+    const int workers = options.threads > 0 ? options.threads : omp_get_max_threads();
+    SupervisedRun run{own_executable(), {"worker", "--library", options.library_path, "--threads", std::to_string(workers)},
+                      workers, base_seed, options.world_time_limit_s};
     return std::make_unique<SupervisedWorlds>(std::move(run));
 #else
     return nullptr;
