@@ -35,6 +35,8 @@ struct Worker {
     int to_worker = -1, from_worker = -1;
     bool busy = false;
     uint64_t world = 0;  ///< the world it is on, while busy
+    uint32_t lineage_worlds = 0;  ///< its task's (WorkerTask)
+    bool lineage_ready = true;    ///< it has the task's lineage: `started` is the world's own start
     Clock::time_point started{};
     std::string fault;  ///< why the supervisor stopped it, if it did
     uint64_t records = 0;  ///< worlds it has sent
@@ -67,7 +69,8 @@ public:
         on_world_ = &on_world;
         next_ = 0;
         stats_ = {};
-        refusal_.clear();
+        refusal_ = {};
+        reap_idle_workers();
         const size_t wanted = std::min<size_t>(static_cast<size_t>(std::max(1, run_.workers)), tasks.size());
         if (workers_.size() < wanted) workers_.resize(wanted);
         for (Worker& w : workers_) {
@@ -89,22 +92,37 @@ public:
         return stats_;
     }
 
-    const std::string& refusal() const { return refusal_; }
+    const Refusal& refusal() const { return refusal_; }
 
 private:
+    // A worker stopped for a hang, or one that died while idle (its output ended), is not handed
+    // a task: the world given to it would be blamed for its end.
+    void reap_idle_workers() {
+        for (Worker& w : workers_) {
+            if (w.pid < 0) continue;
+            pollfd fd{w.from_worker, POLLIN, 0};
+            if (!w.fault.empty() || ::poll(&fd, 1, 0) > 0) stop(w);
+        }
+    }
+
     bool any_busy() const {
         return std::any_of(workers_.begin(), workers_.end(), [](const Worker& w) { return w.busy; });
     }
 
     void spawn(Worker& w) {
-        int to[2], from[2];
-        if (::pipe2(to, O_CLOEXEC) != 0 || ::pipe2(from, O_CLOEXEC) != 0)
-            throw std::runtime_error(std::string("cannot start a worker: ") + std::strerror(errno));
+        int to[2] = {-1, -1}, from[2] = {-1, -1};
+        auto fail = [&](const char* what) {
+            const std::string message = std::string("cannot start a worker: ") + what + ": " + std::strerror(errno);
+            for (int fd : {to[0], to[1], from[0], from[1]})
+                if (fd >= 0) ::close(fd);
+            throw std::runtime_error(message);
+        };
+        if (::pipe2(to, O_CLOEXEC) != 0 || ::pipe2(from, O_CLOEXEC) != 0) fail("pipe");
         std::vector<char*> argv{const_cast<char*>(run_.engine_path.c_str())};
         for (const std::string& a : run_.worker_args) argv.push_back(const_cast<char*>(a.c_str()));
         argv.push_back(nullptr);
         const pid_t pid = ::fork();
-        if (pid < 0) throw std::runtime_error(std::string("cannot start a worker: ") + std::strerror(errno));
+        if (pid < 0) fail("fork");
         if (pid == 0) {
             ::dup2(to[0], STDIN_FILENO);
             ::dup2(from[1], STDOUT_FILENO);
@@ -125,6 +143,8 @@ private:
         const WorkerTask& task = (*tasks_)[next_++];
         w.world = task.world_index;
         w.busy = true;
+        w.lineage_worlds = task.lineage_worlds;
+        w.lineage_ready = task.lineage_worlds == 0;
         w.started = Clock::now();
         const std::string line = task.line + "\n";
         // A worker that died already shows up as the end of its output; its world is handled there.
@@ -165,11 +185,19 @@ private:
     }
 
     void store(Worker& w, const WorkerRecordHeader& h, const std::vector<uint8_t>& payload) {
+        if (h.type == kWorkerLineageReady) {
+            w.lineage_ready = true;
+            w.started = Clock::now();
+            return;
+        }
         w.busy = false;
         ++w.records;
         if (h.type == kWorkerRefusal) {
-            refusal_.assign(payload.begin(), payload.end());
-            return assign_next(w);
+            // Every later task of the run would be refused alike (they refine the same world).
+            refusal_ = {h.version == static_cast<uint32_t>(WorkerRefusal::NotReproduced),
+                        std::string(payload.begin(), payload.end())};
+            next_ = tasks_->size();
+            return;
         }
         writer_->append_record(h.type, h.version, payload);
         std::string reason;
@@ -182,7 +210,8 @@ private:
         }
         slowest_s_ = std::max(slowest_s_, std::chrono::duration<double>(Clock::now() - w.started).count());
         if (*on_world_) (*on_world_)(h.world_index, h.type == kRecordTypeWorld, reason);
-        assign_next(w);
+        // A worker stopped for a hang just as it finished is not handed another world.
+        if (w.fault.empty()) assign_next(w);
     }
 
     // The worker's output ended: it died in a world (or, idle, for no reason of its own).
@@ -192,13 +221,14 @@ private:
         ::close(w.from_worker);
         if (w.to_worker >= 0) ::close(w.to_worker);
         w.pid = w.from_worker = w.to_worker = -1;
-        if (!w.busy) return;
-        w.busy = false;
-        // A worker that stops normally without a single world could not start at all (no scene,
-        // no library, no engine): every world would fail the same way, so the run stops here.
-        if (w.fault.empty() && WIFEXITED(status) && w.records == 0)
-            throw std::runtime_error("a simulation worker could not start (" + describe_exit(status) + ")");
-        reject(w.world, w.fault.empty() ? describe_exit(status) : w.fault);
+        if (w.busy) {
+            w.busy = false;
+            // A worker that stops normally without a single world could not start at all (no
+            // scene, no library, no engine): every world would fail the same way, so the run stops.
+            if (w.fault.empty() && WIFEXITED(status) && w.records == 0)
+                throw std::runtime_error("a simulation worker could not start (" + describe_exit(status) + ")");
+            reject(w.world, w.fault.empty() ? describe_exit(status) : w.fault);
+        }
         if (next_ < tasks_->size()) {
             spawn(w);
             assign_next(w);
@@ -226,8 +256,10 @@ private:
         const double limit = time_limit_s();
         for (Worker& w : workers_) {
             if (!w.busy || w.pid < 0 || !w.fault.empty()) continue;
-            if (std::chrono::duration<double>(Clock::now() - w.started).count() <= limit) continue;
-            w.fault = "the simulation did not finish within " + std::to_string(static_cast<long>(limit)) + " s";
+            // Re-simulating a lineage first takes up to as long as its worlds.
+            const double allowed = w.lineage_ready ? limit : limit * (1.0 + w.lineage_worlds);
+            if (std::chrono::duration<double>(Clock::now() - w.started).count() <= allowed) continue;
+            w.fault = "the simulation did not finish within " + std::to_string(static_cast<long>(allowed)) + " s";
             ::kill(w.pid, SIGKILL);
         }
     }
@@ -250,7 +282,7 @@ private:
     const SupervisedWorldSink* on_world_ = nullptr;
     size_t next_ = 0;
     SamplingStatistics stats_;
-    std::string refusal_;
+    Refusal refusal_;
 };
 
 WorkerPool::WorkerPool(SupervisedRun run) : supervisor_(std::make_unique<Supervisor>(std::move(run))) {
@@ -265,7 +297,7 @@ SamplingStatistics WorkerPool::run(const std::vector<WorkerTask>& tasks, Library
     return supervisor_->run(tasks, writer, on_world, cancel);
 }
 
-const std::string& WorkerPool::refusal() const { return supervisor_->refusal(); }
+const WorkerPool::Refusal& WorkerPool::refusal() const { return supervisor_->refusal(); }
 
 SamplingStatistics sample_supervised(const SupervisedRun& run, const std::vector<uint64_t>& worlds,
                                      LibraryWriter& writer, const SupervisedWorldSink& on_world,
@@ -293,11 +325,16 @@ SamplingStatistics SupervisedWorlds::refine(const CompiledScene&, uint64_t, cons
                                             LibraryWriter& writer, const MadeWorldSink& on_world,
                                             SamplingProgress* progress) {
     std::vector<WorkerTask> tasks;
+    const auto lineage_worlds = static_cast<uint32_t>(job.lineage.size() + 1);
     for (size_t k = 0; k < job.children.size(); ++k)
-        tasks.push_back({job.children[k].world_index, refined_child_line(job, k)});
+        tasks.push_back({job.children[k].world_index, refined_child_line(job, k), lineage_worlds});
     const SamplingStatistics stats = pool_.run(tasks, writer, on_world, cancel_of(progress));
     // Every child of the job has the same parent: a refusal is every worker's.
-    if (!pool_.refusal().empty()) throw WorldNotReproduced(pool_.refusal());
+    const WorkerPool::Refusal& refused = pool_.refusal();
+    if (!refused.message.empty()) {
+        if (refused.not_reproduced) throw WorldNotReproduced(refused.message);
+        throw RefineError(refused.message);
+    }
     return stats;
 }
 

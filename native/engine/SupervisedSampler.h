@@ -36,6 +36,9 @@ using SupervisedWorldSink = MadeWorldSink;
 struct WorkerTask {
     uint64_t world_index = 0;
     std::string line;
+    /// Worlds the worker may have to simulate before this one (a refined child's lineage): until
+    /// it has them, the time limit is that many times longer.
+    uint32_t lineage_worlds = 0;
 };
 
 /// Worker processes kept from one batch of worlds to the next (a worker keeps the lineages it
@@ -48,11 +51,16 @@ public:
     WorkerPool& operator=(const WorkerPool&) = delete;
 
     /// Runs `tasks`, appending each record to `writer` as it arrives (in completion order).
-    /// Setting `cancel` stops every worker at once; finished worlds stay stored. A task a worker
-    /// refuses (its parent does not come out as stored) appends nothing; refusal() says why.
+    /// Setting `cancel` stops every worker at once; finished worlds stay stored. When a worker
+    /// refuses a task (its parent does not come out as stored, or the refinement does not fit
+    /// it), no further task is handed out and refusal() says why.
     SamplingStatistics run(const std::vector<WorkerTask>& tasks, LibraryWriter& writer,
                            const SupervisedWorldSink& on_world, const std::atomic<bool>& cancel);
-    const std::string& refusal() const;
+    struct Refusal {
+        bool not_reproduced = false;  ///< else: the refinement does not fit the world
+        std::string message;          ///< empty: nothing was refused
+    };
+    const Refusal& refusal() const;
 
 private:
     class Supervisor;

@@ -10,7 +10,9 @@
 #include <iostream>
 #include <map>
 #include <optional>
+#include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "WorkerJob.h"
 #include "library/LibraryFormat.h"
@@ -85,43 +87,77 @@ void send_world(const WorldResult& world, const CodecBounds& bounds, const Vec3&
 constexpr size_t kWorkersLineageBytes = size_t{1536} << 20;
 constexpr size_t kLeastWorkerLineageBytes = size_t{256} << 20;
 
+void refuse(uint64_t world_index, WorkerRefusal why, const std::string& message) {
+    send_record(world_index, kWorkerRefusal, static_cast<uint32_t>(why), std::vector<uint8_t>(message.begin(), message.end()));
+}
+
+// What a library's worker needs of it: read once, then the reader (every world's tracks) is let go.
+struct LibraryRun {
+    RunHeader header;
+    std::string scene_json;
+    bool revised = false;
+};
+
+LibraryRun read_library_run(const std::string& path) {
+    const LibraryReader reader(path);
+    return {reader.header(), reader.scene_json(), reader.scene_revision() > 0};
+}
+
 // A library's run: sampled worlds in the scene as sampled, refined children in the scene now.
 int run_library_worker(const EngineOptions& options, const std::map<uint64_t, std::string>& faults) {
-    const LibraryReader reader(options.library_path);
-    const RunHeader& header = reader.header();
+    const LibraryRun run = read_library_run(options.library_path);
+    const RunHeader& header = run.header;
     Scene sampled_scene = scene_from_json(header.scene_json);
     const size_t sampled_bodies = sampled_scene.bodies.size();
     const Vec3 gravity = sampled_scene.world.gravity;
     const CompiledScene sampled(std::move(sampled_scene), header.parameters);
     // Bodies added by refinements since sampling (a scene revision) are in refined children only.
     std::optional<CompiledScene> revised;
-    if (reader.scene_revision() > 0) revised.emplace(scene_from_json(reader.scene_json()), header.parameters, sampled_bodies);
+    if (run.revised) revised.emplace(scene_from_json(run.scene_json), header.parameters, sampled_bodies);
     const CompiledScene& scene_now = revised ? *revised : sampled;
     initialize_ode_once();
     PrefixSharingSimulator simulator(sampled, header.base_seed, true);
     const size_t workers = options.threads > 0 ? static_cast<size_t>(options.threads) : 1;
     LineageCache kept(std::max(kLeastWorkerLineageBytes, kWorkersLineageBytes / workers));
+    // A refinement that changes the scene cannot use kept worlds; its children share one lineage.
+    std::optional<std::pair<uint64_t, std::vector<WorldResult>>> changed_scene_lineage;
     std::string line;
     while (std::getline(std::cin, line)) {
         const WorkerJob job = parse_worker_line(line);
         const auto fault = faults.find(job.world_index);
-        if (fault != faults.end()) fail_as_injected(fault->second);
         if (!job.refined) {
+            if (fault != faults.end()) fail_as_injected(fault->second);
             const WorldResult world = simulator.simulate(job.world_index);
             kept.keep(world);
             send_world(world, header.bounds, gravity);
             continue;
         }
+        const RefinementJob& refinement = job.refinement;
         std::vector<WorldResult> chain;
         try {
-            chain = exact_lineage(scene_now, header.base_seed, job.refinement, &kept);
+            if (!refinement.scene_changed) {
+                chain = exact_lineage(scene_now, header.base_seed, refinement, &kept);
+            } else {
+                if (!changed_scene_lineage || changed_scene_lineage->first != refinement.parent_world)
+                    changed_scene_lineage.emplace(refinement.parent_world,
+                                                  exact_lineage(scene_now, header.base_seed, refinement, nullptr));
+                chain = changed_scene_lineage->second;
+            }
         } catch (const WorldNotReproduced& refused) {
-            const std::string message = refused.what();
-            send_record(job.world_index, kWorkerRefusal, 0, std::vector<uint8_t>(message.begin(), message.end()));
+            refuse(job.world_index, WorkerRefusal::NotReproduced, refused.what());
             continue;
         }
-        const WorldResult child = refine_world(scene_now, header.base_seed, chain, job.refinement.children.front());
-        if (!job.refinement.scene_changed) kept.keep(child);
+        send_record(job.world_index, kWorkerLineageReady, 0, {});
+        // An injected fault strikes the child's own simulation, as a broken ODE would.
+        if (fault != faults.end()) fail_as_injected(fault->second);
+        WorldResult child;
+        try {
+            child = refine_world(scene_now, header.base_seed, chain, refinement.children.front());
+        } catch (const std::invalid_argument& misfit) {
+            refuse(job.world_index, WorkerRefusal::DoesNotFit, misfit.what());
+            continue;
+        }
+        if (!refinement.scene_changed) kept.keep(child);
         send_world(child, header.bounds, gravity);
     }
     return 0;

@@ -18,9 +18,16 @@ struct WorkerRecordHeader {
     uint32_t size = 0;  ///< payload bytes that follow
 };
 constexpr size_t kWorkerRecordHeaderBytes = 20;
-/// WorkerRecordHeader::type of a job the worker refuses (the world it refines does not come out
-/// as stored); the payload is the message. Never a library record type.
+/// WorkerRecordHeader::type of a job the worker refuses; the payload is the message, the version
+/// one of WorkerRefusal. Never a library record type.
 constexpr uint32_t kWorkerRefusal = 0xFFFFFFFFu;
+enum class WorkerRefusal : uint32_t {
+    NotReproduced = 0,  ///< the world it refines does not come out as stored
+    DoesNotFit = 1,     ///< the refinement does not fit that world
+};
+/// WorkerRecordHeader::type a worker sends (no payload) once it has the lineage of the world a
+/// refinement job refines, before it simulates the child: the child's own time starts there.
+constexpr uint32_t kWorkerLineageReady = 0xFFFFFFFEu;
 
 /// Reads jobs (engine/WorkerJob.h), one per line, on standard input until it ends; simulates each
 /// and writes its record to standard output as a WorkerRecordHeader followed by the payload.

@@ -88,7 +88,11 @@ RefineOutcome refine_stored_world(const LibraryReader& reader, const RefineReque
         writer.append_record(kRecordTypeSceneRevision, kSceneRevisionRecordVersion,
                              encode_scene_revision({reader.scene_revision() + 1, scene_now}));
     }
-    outcome.statistics = maker.refine(compiled, header.base_seed, job, writer, on_world, progress);
+    try {
+        outcome.statistics = maker.refine(compiled, header.base_seed, job, writer, on_world, progress);
+    } catch (const std::invalid_argument& error) {
+        throw RefineError(error.what());  // the simulated parent refuses what its record allowed
+    }
     return outcome;
 }
 
