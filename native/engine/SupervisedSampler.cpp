@@ -299,14 +299,22 @@ SamplingStatistics WorkerPool::run(const std::vector<WorkerTask>& tasks, Library
 
 const WorkerPool::Refusal& WorkerPool::refusal() const { return supervisor_->refusal(); }
 
+namespace {
+
+std::vector<WorkerTask> sampling_tasks(const std::vector<uint64_t>& worlds) {
+    std::vector<WorkerTask> tasks;
+    for (uint64_t w : worlds) tasks.push_back({w, sampled_world_line(w)});
+    return tasks;
+}
+
+}  // namespace
+
 SamplingStatistics sample_supervised(const SupervisedRun& run, const std::vector<uint64_t>& worlds,
                                      LibraryWriter& writer, const SupervisedWorldSink& on_world,
                                      const std::atomic<bool>& cancel) {
     if (worlds.empty()) return {};
-    std::vector<WorkerTask> tasks;
-    for (uint64_t w : worlds) tasks.push_back({w, sampled_world_line(w)});
     WorkerPool pool(run);
-    return pool.run(tasks, writer, on_world, cancel);
+    return pool.run(sampling_tasks(worlds), writer, on_world, cancel);
 }
 
 const std::atomic<bool>& SupervisedWorlds::cancel_of(const SamplingProgress* progress) const {
@@ -316,9 +324,7 @@ const std::atomic<bool>& SupervisedWorlds::cancel_of(const SamplingProgress* pro
 SamplingStatistics SupervisedWorlds::sample(const CompiledScene&, uint64_t, const std::vector<uint64_t>& indices,
                                             LibraryWriter& writer, const MadeWorldSink& on_world,
                                             SamplingProgress* progress) {
-    std::vector<WorkerTask> tasks;
-    for (uint64_t w : indices) tasks.push_back({w, sampled_world_line(w)});
-    return pool_.run(tasks, writer, on_world, cancel_of(progress));
+    return pool_.run(sampling_tasks(indices), writer, on_world, cancel_of(progress));
 }
 
 SamplingStatistics SupervisedWorlds::refine(const CompiledScene&, uint64_t, const RefinementJob& job,

@@ -1,7 +1,7 @@
 #pragma once
 // Who simulates the worlds a refinement or a goal search adds to a library. InProcessWorlds runs
-// them on this process's threads; the engine's supervisor (engine/SupervisedWorlds.h) runs each
-// in a worker process, so that a world that makes ODE abort, crash or hang cannot end a search.
+// them on this process's threads; the engine's SupervisedWorlds (engine/SupervisedSampler.h) runs
+// each in a worker process, so that a world that makes ODE abort, crash or hang cannot end a search.
 // Either way a world is the same pure function of (scene, run, lineage, index): the library
 // gets the same records.
 #include <cstdint>
