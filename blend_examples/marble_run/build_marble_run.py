@@ -1,9 +1,11 @@
 """Builds the marble-run example, the paper's "refrigerator toy": a marble rolls down chutes and
 drops into hinged cups that tip it on, left or right, to the next chute or out of the run.
 
-Goal: "the marble tips Cup1, Cup2, Cup3 and Cup4 in turn and ends in the goal basket". Each cup
-tips one way or the other depending on where the marble lands in it, so a random run completes the
-chain roughly one time in sixteen: sampling finds it, refinement makes it quick.
+Goal: "the marble tips Cup1 to Cup6 in turn, each the way the run zigzags, and ends in the goal
+basket". Each cup tips one way or the other depending on where the marble lands in it, and the way
+the chain needs is the less likely one (about one time in three or four), so random runs complete
+the chain in well under one in a thousand: the paper's user chose which way each cup turned, cup
+by cup, and so must a search.
 
 Run:  blender -b --factory-startup --python blend_examples/marble_run/build_marble_run.py -- OUT.blend
 Everything is made from nothing with Blender's own rigid-body settings, plus the Many-Worlds
@@ -22,7 +24,7 @@ from example_kit import (  # noqa: E402
     variation)
 
 FPS = 24
-FRAME_START, FRAME_END = 1, 192         # 8 s: a full chain reaches the basket after about 6.5 s
+FRAME_START, FRAME_END = 1, 288         # 12 s: a full chain reaches the basket after 9 to 11 s
 SUBSTEPS, SOLVER_ITERATIONS = 10, 20    # small fast marble: 240 Hz, extra iterations for the hinges
 WORLD_COUNT, SEED = 500, 1
 
@@ -32,11 +34,15 @@ CHANNEL_HALF_DEPTH = 0.05               # inner faces of board and pane at y = -
 MARBLE_RADIUS, MARBLE_MASS = 0.035, 0.1
 PIECE_THICKNESS = 0.02
 DROP_GAP = 0.09                         # between a chute's end and its stop wall; the marble drops through
-# The gap's centre sits this far short of the cup's hinge: the marble still carries a little speed
-# along the chute when it lands, and this offset makes each cup tip either way about equally often.
-LANDING_SHIFT = 0.01
+# The gap's centre sits this far short of the cup's hinge, on the side the marble comes from; the
+# marble still carries a little speed along the chute when it lands, so the offset sets how often a
+# cup tips on (away from the chute that fed it) rather than back. Cup1, fed slowly by the start
+# chute, must tip on; the others, fed by a cup's faster pour, must tip back. Both offsets make the
+# way the chain needs the less likely one (1 in 3 or 4).
+LANDING_SHIFT = 0.014
+POUR_LANDING_SHIFT = 0.0
 STOP_WALL_HEIGHT = 0.2
-BOARD_WIDTH, BOARD_HEIGHT = 1.4, 2.6
+BOARD_WIDTH = 1.4
 
 # Cups: a flat-bottomed U with a keel under it. The hinge sits a little above the cup's own centre of
 # mass, so an empty cup hangs upright, but below the marble's centre once it is inside, so a full cup
@@ -46,9 +52,12 @@ CUP_MASS, CUP_PIVOT_ABOVE_COM = 0.03, 0.012
 CUP_TIP_LIMIT = math.radians(110)
 CUP_CLEARANCE = 0.17                    # radius around a hinge that the swinging cup sweeps, with margin
 
-# (name, hinge x, hinge z, the side it must tip to for the chain: +1 right, -1 left)
-CUPS = (("Cup1", -0.3, 2.2, +1), ("Cup2", 0.3, 1.7, -1), ("Cup3", -0.3, 1.2, +1), ("Cup4", 0.3, 0.7, -1))
-LEVEL_DROP = 0.5
+# (name, hinge x, hinge z, the side it must tip to for the chain: +1 right, -1 left): the run
+# zigzags down, one level per cup, to the basket a level below the last
+CUP_COUNT, LEVEL_DROP, LOWEST_CUP_Z, CUP_X = 7, 0.5, 0.7, 0.3
+CUPS = tuple((f"Cup{i + 1}", -CUP_X if i % 2 == 0 else CUP_X, LOWEST_CUP_Z + (CUP_COUNT - 1 - i) * LEVEL_DROP,
+              +1 if i % 2 == 0 else -1) for i in range(CUP_COUNT))
+BOARD_HEIGHT = CUPS[0][2] + 0.4
 
 
 # --- generic helpers ---------------------------------------------------------------------------
@@ -121,7 +130,7 @@ def build_run(mats):
         # starts under the hinge, below the circle the swinging cup sweeps, to catch the marble wherever
         # it leaves the rim; slopes down towards the next cup
         chute(f"Chute{i + 1}", (x - side * 0.02, z - CUP_CLEARANCE - 0.01),
-              (target_x - side * (DROP_GAP / 2 + LANDING_SHIFT), z - CUP_CLEARANCE - 0.09), mats)
+              (target_x - side * (DROP_GAP / 2 + POUR_LANDING_SHIFT), z - CUP_CLEARANCE - 0.09), mats)
     basket_x, basket_z = -CUPS[-1][1], CUPS[-1][2] - LEVEL_DROP
     for part, size, offset in (("Bottom", (0.24, 0.1, 0.02), (0, 0, 0)), ("WallL", (0.02, 0.1, 0.1), (-0.11, 0, 0.05)),
                                ("WallR", (0.02, 0.1, 0.1), (0.11, 0, 0.05))):
@@ -149,7 +158,9 @@ def main():
     build_frame(mats)
     build_run(mats)
     build_marble(mats)
-    camera_and_lights(location=(0.6, -5.4, 1.5), target=(0, 0, 1.3), lens=35)
+    # the whole board in view, whatever its height
+    distance = 5.4 * BOARD_HEIGHT / 2.6
+    camera_and_lights(location=(0.6, -distance, BOARD_HEIGHT / 2 + 0.2), target=(0, 0, BOARD_HEIGHT / 2), lens=35)
     bpy.context.preferences.filepaths.save_version = 0     # no .blend1 backup beside the committed file
     bpy.ops.wm.save_as_mainfile(filepath=path, compress=True)
 

@@ -44,8 +44,9 @@ FRAME_HALF_GAP = 0.55                   # uprights either side of the arm, clear
 TOWER_CENTRE = Vector((11.0, 0.0, 0.0))        # the rock, thrown as built, meets the tower at about 2.7 m
 LAYERS, BLOCKS_PER_SIDE = 12, 4
 BLOCK_LENGTH, BLOCK_DEPTH, BLOCK_HEIGHT, BLOCK_MASS = 0.5, 0.25, 0.25, 5.0
-# (x, y) of the passive figures, within reach of blocks knocked off the tower
-BYSTANDERS = ((TOWER_CENTRE.x + 2.6, 0.9), (TOWER_CENTRE.x + 0.8, -2.3), (TOWER_CENTRE.x - 0.6, 2.4))
+# (x, y) of the passive figures: two behind the tower, 2.4 m from its centre either side of the
+# throw, where the blocks it knocks off land (1.5-3.5 m behind it), and one beside it
+BYSTANDERS = ((TOWER_CENTRE.x + 2.1, 1.2), (TOWER_CENTRE.x + 2.1, -1.2), (TOWER_CENTRE.x - 0.6, 2.4))
 
 
 # --- generic helpers ---------------------------------------------------------------------------

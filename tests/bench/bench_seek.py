@@ -117,10 +117,11 @@ def quickstart_goal():
 
 
 def marble_run_goal():
-    """The marble tips Cup1 to Cup4 in turn (each pours it onto the chute below it, towards the
-    next cup) and ends in the basket."""
+    """The marble tips every cup in turn, the way the run zigzags (Cup1 right, Cup2 left, ...: each
+    pours it onto the chute below it, towards the next cup), and ends in the basket."""
     boxes = []
-    cups = [("Cup1", +1), ("Cup2", -1), ("Cup3", +1), ("Cup4", -1)]
+    count = sum(1 for o in bpy.data.objects if o.name.startswith("Cup") and o.name[3:].isdigit())
+    cups = [(f"Cup{k}", +1 if k % 2 else -1) for k in range(1, count + 1)]
     for k, (cup, side) in enumerate(cups):
         hinge = bpy.data.objects[f"{cup}Hinge"].matrix_world.translation
         # On the chute under the rim it must tip over: 10 to 35 cm beyond the hinge, below the cup.
@@ -128,7 +129,8 @@ def marble_run_goal():
         points = [Vector((x, 0, z)) for x in (x_near, x_far) for z in (hinge.z - 0.32, hinge.z - 0.12)]
         boxes.append(camera_box(points, ["Marble"], after=k - 1 if k else None))
     basket = [n for n in (o.name for o in bpy.data.objects) if n.startswith("GoalBasket")]
-    boxes.append(camera_box(corners(basket, lift=0.15), ["Marble"], window=[7.0, 8.0], after=len(cups) - 1))
+    end = bpy.context.scene.frame_end / bpy.context.scene.render.fps
+    boxes.append(camera_box(corners(basket, lift=0.15), ["Marble"], window=[end - 1.0, end], after=len(cups) - 1))
     return boxes
 
 
@@ -197,12 +199,23 @@ def spiral_staircase_orientations():
 
 
 def trebuchet_tower_goal():
-    """The paper's full query: the rock hits the tower (a swept box over the tower: the rock's
-    shape, not its centre, must reach it while it flies in), and no falling block touches a
-    bystander (swept negative boxes on every block over each bystander's own footprint seen from
-    above, so a block whose shape reaches a bystander's, side-on or from above, fails the goal)."""
+    """The paper's queries, on the shot they are for: the rock hits the tower (a swept box over the
+    tower: the rock's shape, not its centre, must reach it while it flies in); it brings the top of
+    the tower down (a block of the top layer lies on the ground behind the tower in the last
+    second); and no falling block touches a bystander (swept negative boxes on every block over
+    each bystander's own footprint seen from above, so a block whose shape reaches a bystander's,
+    side-on or from above, fails the goal). Two bystanders stand behind the tower, where its top
+    lands."""
     blocks = [o.name for o in bpy.data.objects if o.name.startswith("Block")]
     boxes = [camera_box(corners(blocks), ["Rock"], window=[2.5, 4.5], swept=True)]
+    # Seen side-on along the throw (+X): every depth, beyond the tower's back face, below 0.6 m
+    # (a 0.25 m block lying on the ground, or on another fallen one).
+    top_layer = max(bpy.data.objects[b].location.z for b in blocks)
+    top = [b for b in blocks if bpy.data.objects[b].location.z > top_layer - 0.01]
+    back = max((bpy.data.objects[b].matrix_world @ Vector(c)).x for b in blocks for c in bpy.data.objects[b].bound_box)
+    end = bpy.context.scene.frame_end / bpy.context.scene.render.fps
+    boxes.append(ortho_box((1, 0, 0), (0, 0, 1), back + 0.25, -1.0, back + 10.0, 0.6, top, half_size=20.0,
+                           window=[end - 1.0, end]))
     # Seen from above, so the tower behind a bystander is not in its box.
     for k in (1, 2, 3):
         ob = bpy.data.objects[f"Bystander{k}"]
