@@ -130,8 +130,9 @@ private:
         note_progress();
     }
 
-    // Fresh sampled worlds when refinement has stopped getting anywhere: the search never does
-    // worse than sampling, and a new start may succeed where every branch of the old ones failed.
+    // Fresh sampled worlds when refinement has stopped getting anywhere: a new start may succeed
+    // where every branch of the old ones failed. One batch per stall, so on a goal that a single
+    // chaotic event decides (the trebuchet's) the search is no faster than sampling.
     void note_progress() {
         const double best = worlds_->best_value();
         if (best > best_value_ + kMeaningfulGain) {
