@@ -1,7 +1,7 @@
 """Builds the marble-run example, the paper's "refrigerator toy": a marble rolls down chutes and
 drops into hinged cups that tip it on, left or right, to the next chute or out of the run.
 
-Goal: "the marble tips Cup1 to Cup6 in turn, each the way the run zigzags, and ends in the goal
+Goal: "the marble tips Cup1 to Cup7 in turn, each the way the run zigzags, and ends in the goal
 basket". Each cup tips one way or the other depending on where the marble lands in it, and the way
 the chain needs is the less likely one (about one time in three or four), so random runs complete
 the chain in well under one in a thousand: the paper's user chose which way each cup turned, cup

@@ -98,6 +98,12 @@ def top_box(x0, y0, x1, y1, objects, *, half_size=6.0, negative=False, window=No
                      after=after, swept=swept)
 
 
+def last_second():
+    """The time window of the scene's last second."""
+    end = bpy.context.scene.frame_end / bpy.context.scene.render.fps
+    return [end - 1.0, end]
+
+
 def fraction_box(fractions, objects, window):
     """A goal box over a fraction (x0, y0, x1, y1) of the scene camera's view."""
     view, projection, (width, height) = cli.camera_view(bpy.context.scene.camera.name)
@@ -129,8 +135,7 @@ def marble_run_goal():
         points = [Vector((x, 0, z)) for x in (x_near, x_far) for z in (hinge.z - 0.32, hinge.z - 0.12)]
         boxes.append(camera_box(points, ["Marble"], after=k - 1 if k else None))
     basket = [n for n in (o.name for o in bpy.data.objects) if n.startswith("GoalBasket")]
-    end = bpy.context.scene.frame_end / bpy.context.scene.render.fps
-    boxes.append(camera_box(corners(basket, lift=0.15), ["Marble"], window=[end - 1.0, end], after=len(cups) - 1))
+    boxes.append(camera_box(corners(basket, lift=0.15), ["Marble"], window=last_second(), after=len(cups) - 1))
     return boxes
 
 
@@ -187,9 +192,8 @@ def spiral_staircase_goal():
                              after=len(boxes) - 1 if k > 3 else None))
     # At the end: over the last two treads (half a tread's width either side of the line between
     # them at the walking line), from the lower tread up to 0.7 m above the upper one.
-    end = bpy.context.scene.frame_end / bpy.context.scene.render.fps
     boxes.append(side_on(radial_of(steps[-1], steps[-2]), 0.3, tread_top(steps[-1]) - 0.1, tread_top(steps[-2]) + 0.7,
-                         window=[end - 1.0, end], after=len(boxes) - 1))
+                         window=last_second(), after=len(boxes) - 1))
     return boxes
 
 
@@ -213,9 +217,8 @@ def trebuchet_tower_goal():
     top_layer = max(bpy.data.objects[b].location.z for b in blocks)
     top = [b for b in blocks if bpy.data.objects[b].location.z > top_layer - 0.01]
     back = max((bpy.data.objects[b].matrix_world @ Vector(c)).x for b in blocks for c in bpy.data.objects[b].bound_box)
-    end = bpy.context.scene.frame_end / bpy.context.scene.render.fps
     boxes.append(ortho_box((1, 0, 0), (0, 0, 1), back + 0.25, -1.0, back + 10.0, 0.6, top, half_size=20.0,
-                           window=[end - 1.0, end]))
+                           window=last_second()))
     # Seen from above, so the tower behind a bystander is not in its box.
     for k in (1, 2, 3):
         ob = bpy.data.objects[f"Bystander{k}"]
