@@ -14,8 +14,11 @@ SLOT_WIDTH, SLOT_WALL_HEIGHT, SLOT_WALL_THICKNESS = 0.62, 0.55, 0.04
 PEG_RADIUS, PEG_ROW_SPACING, PEG_COLUMN_SPACING = 0.05, 0.6, 0.8
 PEG_BOTTOM_ROW_Z = 1.2
 
-# A board: its word (one slot per letter), height and number of peg rows.
-Board = namedtuple("Board", "word height peg_rows")
+WALL_BUMP_REACH = 0.45  # how far a bump stands out of its wall
+
+# A board: its word (one slot per letter), height, number of peg rows, and whether the side walls
+# carry a bump at every other row.
+Board = namedtuple("Board", "word height peg_rows wall_bumps", defaults=(False,))
 
 
 def board_width(board):
@@ -94,6 +97,24 @@ def build_pegs(board, mats):
             peg = cylinder(f"Peg_r{row}_c{col + count:02d}", PEG_RADIUS, 2 * CHANNEL_HALF_DEPTH, location=(x, 0, z),
                            rotation=(math.pi / 2, 0, 0), mat=mats["peg"])
             rigid_body(peg, "PASSIVE", "CYLINDER", friction=0.3, restitution=0.4)
+        if board.wall_bumps and row % 2 == 1:
+            build_wall_bumps(board, row, z, mats)
+
+
+def build_wall_bumps(board, row, z, mats):
+    """Square bumps set corner-first into both side walls at the height of a row whose outermost
+    pegs are far from the walls. Without them the strip between the outermost pegs and a wall has
+    nothing in it for every other row: a letter that drifts into it falls almost straight down to
+    the end slot (on the tall board, 4 of 5 letters starting off-centre did). Their faces slope at
+    45 degrees, so nothing rests on them, and the gap left between a bump's corner and the nearest
+    pegs is wider than the rows' own, so nothing wedges there (round bumps, whose undersides
+    pinch letters against the pegs below, left twice as many letters hanging in the board)."""
+    wall_face = board_width(board) / 2
+    side_length = WALL_BUMP_REACH * math.sqrt(2)
+    for side, sign in (("L", -1), ("R", 1)):
+        bump = box(f"WallBump{side}_r{row:02d}", (side_length, 2 * CHANNEL_HALF_DEPTH, side_length),
+                   location=(sign * wall_face, 0, z), rotation=(0, math.pi / 4, 0), mat=mats["frame"])
+        rigid_body(bump, "PASSIVE", "BOX", friction=0.3, restitution=0.4)
 
 
 def build_slots(board, mats):

@@ -29,7 +29,7 @@ WORLD_COUNT, SEED = 1000, 1
 WORD = "SIGGRAPH"
 # Twelve staggered rows: each peg a letter meets sends it about half a column either way, so the
 # rows together can carry a letter across the board (the gaps, 0.7 m, pass a letter any way up).
-BOARD = Board(WORD, height=13.4, peg_rows=12)
+BOARD = Board(WORD, height=13.4, peg_rows=12, wall_bumps=True)
 # The rack along the top: closer together than the slots, over the pegs, and tiered: neighbours
 # start 1.8 m or more apart in height, so they do not all meet the first pegs at once.
 LETTER_START_SPACING, LETTER_START_Z, LETTER_TIER_HEIGHT = 0.45, 8.6, 0.6

@@ -147,7 +147,7 @@ def pachinko_letters_goal():
 
 def siggraph_letters_goal():
     """Every letter in its own slot over the last second (the word started reversed)."""
-    return [camera_box(corners([f"Slot{i}_{c}"], lift=0.5), [f"Letter{i}_{c}"], window=[7.0, 8.0])
+    return [camera_box(corners([f"Slot{i}_{c}"], lift=0.5), [f"Letter{i}_{c}"], window=last_second())
             for i, c in enumerate("SIGGRAPH", 1)]
 
 

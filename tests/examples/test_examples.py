@@ -57,6 +57,12 @@ def json_of(output):
     return json.loads(output[output.index("{"):output.rindex("}") + 1])
 
 
+def result_of(output):
+    """What a script run by a test printed on its `RESULT ` line, as JSON."""
+    line = next(l for l in output.splitlines() if l.startswith("RESULT "))
+    return json.loads(line[len("RESULT "):])
+
+
 @pytest.mark.parametrize("name", list(EXAMPLES))
 def test_example_builds_exports_samples_and_meets_its_goal(name, tmp_path):
     worlds, tracked, targets, (t0, t1), must_match = EXAMPLES[name]
@@ -67,8 +73,7 @@ def test_example_builds_exports_samples_and_meets_its_goal(name, tmp_path):
 
     snippet = EXPORT_AND_FRAME.format(addon=os.path.join(ROOT, "addon"), targets=targets)
     run = blender(blend, "--python-exit-code", "1", "--python-expr", snippet)
-    line = next(l for l in run.stdout.splitlines() if l.startswith("RESULT "))
-    report = json.loads(line[len("RESULT "):])
+    report = result_of(run.stdout)
     # Approximations an example meets by design, named by setting; nothing else may be reported.
     allowed = APPROXIMATIONS.get(name, ())
     unexpected = [line for line in report["export"] if line.split(": ", 2)[1:2] not in [[a] for a in allowed]]
@@ -131,11 +136,53 @@ def test_every_siggraph_letter_starts_on_the_other_half_of_the_board_from_its_sl
     """The paper's difficulty: no letter starts above its own slot; each must cross the middle."""
     blend = os.path.join(ROOT, "blend_examples", "siggraph_letters", "siggraph_letters.blend")
     run = blender(blend, "--python-exit-code", "1", "--python-expr", CROSSINGS)
-    line = next(l for l in run.stdout.splitlines() if l.startswith("RESULT "))
-    starts_and_slots = json.loads(line[len("RESULT "):])
+    starts_and_slots = result_of(run.stdout)
     assert len(starts_and_slots) == 8
     for start, slot in starts_and_slots:
         assert start * slot < 0 and abs(start - slot) > 1.5, starts_and_slots
+
+
+LETTER_LANDINGS = """
+import json, sys
+sys.path.insert(0, {addon!r})
+from many_worlds import _native
+library = _native.Library({library!r})
+scene = json.loads(library.scene_json)
+names = [b["name"] for b in scene["bodies"]]
+slots = sorted((b["initial"]["location"][0], b["name"].split("_")[1], b["name"]) for b in scene["bodies"]
+               if b["name"].startswith("Slot") and "_" in b["name"])
+letters = [n for n in names if n.startswith("Letter")]
+# Per letter, the slot (by its index along the board) it ends nearest to in each world.
+landings = {{letter: [] for letter in letters}}
+for w in library.world_indices:
+    positions = library.positions(w)
+    for letter in letters:
+        x = positions[names.index(letter)][-1][0]
+        landings[letter].append(min(range(len(slots)), key=lambda k: abs(slots[k][0] - x)))
+own = {{letter: [k for k, s in enumerate(slots) if s[2].startswith("Slot" + letter[len("Letter"):])][0] for letter in letters}}
+print("RESULT " + json.dumps({{"landings": landings, "own": own, "slots": len(slots)}}))
+"""
+
+
+def test_the_siggraph_board_spreads_every_letter_over_the_slots(tmp_path):
+    """A fair board: each letter, though it starts on the other half, reaches its own slot in some
+    of 200 fresh worlds, and no slot (the end slots by the walls least of all) takes a third of
+    any letter's landings."""
+    blend = os.path.join(ROOT, "blend_examples", "siggraph_letters", "siggraph_letters.blend")
+    library = str(tmp_path / "letters.mwb")
+    cli(blend, "sample", "--worlds", "0:200", "--out", library)
+    run = subprocess.run(["/usr/bin/python3", "-c",
+                          LETTER_LANDINGS.format(addon=os.path.join(ROOT, "addon"), library=library)],
+                         capture_output=True, text=True, check=True)
+    result = result_of(run.stdout)
+    assert result["slots"] == 8 and len(result["landings"]) == 8
+    for letter, slots in result["landings"].items():
+        assert len(slots) == 200
+        shares = [slots.count(k) / len(slots) for k in range(result["slots"])]
+        assert shares[result["own"][letter]] > 0, (letter, shares)
+        assert max(shares) < 1 / 3, (letter, shares)
+    print("siggraph letters: own-slot landings of 200:",
+          {letter: slots.count(result["own"][letter]) for letter, slots in result["landings"].items()})
 
 
 CUP_WAYS = """
@@ -174,7 +221,7 @@ def test_each_marble_run_cup_tips_the_chains_way_less_often_than_not(tmp_path):
     cli(blend, "sample", "--worlds", "0:200", "--out", library)
     run = subprocess.run(["/usr/bin/python3", "-c", CUP_WAYS.format(addon=os.path.join(ROOT, "addon"), library=library)],
                          capture_output=True, text=True, check=True)
-    result = json.loads(next(l for l in run.stdout.splitlines() if l.startswith("RESULT "))[len("RESULT "):])
+    result = result_of(run.stdout)
     reached = result["reached"]
     assert result["cups"] == 7 and len(reached) == 200
     got_to = [sum(1 for r in reached if r >= k) for k in range(result["cups"] + 1)]

@@ -183,6 +183,33 @@ TEST(GoalScore, ClosenessOfAPositiveBoxIsTheNearestApproachInBoxSizes) {
     EXPECT_LT(nearer.value(), 1.0);
 }
 
+TEST(GoalScore, EveryPartItCouldMeetNextIsListedNearestFirst) {
+    // Body 0 meets its box; body 1 passes half a box from its own, body 2 three boxes from its own.
+    const std::vector<QueryBox> goal{box(0, 1, 0, 1, {0}), box(4, 5, 0, 1, {1}), box(-5, -4, 0, 1, {2})};
+    const GoalScore s = score_goal({path_through({{0.5, 3}, {0.5, 0.5}}), path_through({{3, 3}, {3.5, 0.5}}),
+                                    path_through({{-1, 3}, {-1, 0.5}})},
+                                   {0.1, 0.1, 0.1}, goal, goal_order(goal));
+    EXPECT_EQ(s.boxes_met, 1u);
+    ASSERT_EQ(s.misses.size(), 2u);
+    EXPECT_EQ(s.misses[0].part, 1);
+    EXPECT_EQ(s.misses[0].failing_bodies, (std::vector<uint32_t>{1}));
+    EXPECT_NEAR(s.misses[0].closeness, 1 / 1.5, 1e-3);
+    EXPECT_EQ(s.misses[1].part, 2);
+    EXPECT_EQ(s.misses[1].failing_bodies, (std::vector<uint32_t>{2}));
+    EXPECT_NEAR(s.misses[1].closeness, 1 / 4.0, 1e-3);
+    // The nearest is the one the score reports.
+    EXPECT_EQ(s.first_unmet, 1);
+    EXPECT_EQ(s.closeness, s.misses[0].closeness);
+    // Ordered parts: only the next one in the order is listed.
+    std::vector<QueryBox> ordered = goal;
+    ordered[2].after = 1;
+    const GoalScore in_turn = score_goal({path_through({{0.5, 3}, {0.5, 0.5}}), path_through({{3, 3}, {3.5, 0.5}}),
+                                          path_through({{-1, 3}, {-1, 0.5}})},
+                                         {0.1, 0.1, 0.1}, ordered, goal_order(ordered));
+    ASSERT_EQ(in_turn.misses.size(), 1u);
+    EXPECT_EQ(in_turn.misses[0].part, 1);
+}
+
 TEST(GoalScore, ClosenessOfANegativeBoxIsHowBrieflyThePathStaysInside) {
     std::vector<QueryBox> goal{box(0, 1, 0, 1, {0, 1}, -1, true)};
     goal[0].window = {0, 4};

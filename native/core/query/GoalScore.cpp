@@ -300,22 +300,28 @@ GoalScore score_goal(const std::vector<PathView>& paths, const std::vector<doubl
         } else if (!with_closeness) {
             if (score.first_unmet < 0) score.first_unmet = static_cast<int32_t>(k);
         } else if (reachable) {
-            // Of the parts it could meet next, the one it comes nearest to: a search then works
-            // on what is closest to done (the letter one bounce from its slot before the one
-            // across the board), and the score rises with every part it brings nearer.
+            // Each part it could meet next and how near it comes; the nearest is first_unmet: a
+            // search works on what is closest to done (the letter one bounce from its slot before
+            // the one across the board), and the score rises with every part it brings nearer.
             GoalScore miss;
             miss.window_start_s = std::max(lo, 0.0);
             if (box.orientation) score_orientation_miss(paths, *orientations, box, lo, hi, miss);
             else if (box.negative) score_negative_miss(paths, body_radii_m, box, lo, hi, miss);
             else score_positive_miss(paths, body_radii_m, box, lo, hi, miss);
-            if (score.first_unmet < 0 || miss.closeness > score.closeness) {
-                score.first_unmet = static_cast<int32_t>(k);
-                score.closeness = miss.closeness;
-                score.failure_time_s = miss.failure_time_s;
-                score.failing_bodies = std::move(miss.failing_bodies);
-                score.window_start_s = miss.window_start_s;
-            }
+            score.misses.push_back({static_cast<int32_t>(k), miss.closeness, miss.failure_time_s, miss.window_start_s,
+                                    std::move(miss.failing_bodies)});
         }
+    }
+    // Nearest first; on a tie the first in goal order (the sort is stable).
+    std::stable_sort(score.misses.begin(), score.misses.end(),
+                     [](const GoalScore::Miss& a, const GoalScore::Miss& b) { return a.closeness > b.closeness; });
+    if (!score.misses.empty()) {
+        const GoalScore::Miss& nearest = score.misses.front();
+        score.first_unmet = nearest.part;
+        score.closeness = nearest.closeness;
+        score.failure_time_s = nearest.failure_time_s;
+        score.failing_bodies = nearest.failing_bodies;
+        score.window_start_s = nearest.window_start_s;
     }
     return score;
 }

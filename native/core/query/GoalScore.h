@@ -48,6 +48,15 @@ struct GoalScore {
     /// When that box's window opens, after the box it follows (seconds; 0 for the whole path).
     double window_start_s = 0;
 
+    /// Every part it could meet next, as above for first_unmet (closeness, where it went wrong,
+    /// the bodies to blame), nearest first; the first is first_unmet's. Empty without closeness.
+    struct Miss {
+        int32_t part = -1;
+        double closeness = 0, failure_time_s = 0, window_start_s = 0;
+        std::vector<uint32_t> failing_bodies;
+    };
+    std::vector<Miss> misses;
+
     /// Orders worlds: more boxes first, then closer to the next one.
     double value() const { return boxes_met + closeness; }
 };

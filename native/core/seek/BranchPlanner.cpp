@@ -36,8 +36,9 @@ bool BranchPlanner::simulated(uint32_t body) const {
     return body < scene_.bodies.size() && body_role(scene_.bodies[body]) == BodyRole::Simulated;
 }
 
-std::vector<Branch> BranchPlanner::branch_points(const StoredWorld& w, const GoalScore& score) const {
-    const QueryBox& box = boxes_[static_cast<size_t>(score.first_unmet)];
+std::vector<Branch> BranchPlanner::branch_points(const StoredWorld& w, const GoalScore& score,
+                                                 const GoalScore::Miss& miss) const {
+    const QueryBox& box = boxes_[static_cast<size_t>(miss.part)];
     const double hz = w.record_hz;
     const double world_end = (w.first_frame + w.frame_count - 1) / hz;
     // Keep what the boxes before it in the order achieved, all but the last: branch after the
@@ -49,10 +50,10 @@ std::vector<Branch> BranchPlanner::branch_points(const StoredWorld& w, const Goa
         const int32_t earlier = boxes_[static_cast<size_t>(box.after)].after;
         lower = earlier >= 0 ? score.met_time_s[static_cast<size_t>(earlier)] : 0.0;
     }
-    double upper = std::min(score.failure_time_s, world_end);
+    double upper = std::min(miss.failure_time_s, world_end);
     if (!(upper > lower)) upper = world_end;
     std::vector<uint32_t> failing;
-    for (uint32_t b : score.failing_bodies)
+    for (uint32_t b : miss.failing_bodies)
         if (simulated(b) && failing.size() < kMaxFailingBodies) failing.push_back(b);
     if (failing.empty())
         for (uint32_t b : box.bodies)
@@ -88,11 +89,51 @@ std::vector<Branch> BranchPlanner::branch_points(const StoredWorld& w, const Goa
         add(c.time_s, bodies);
     }
     // Just before the box's window opens.
-    const double opens = box.window.empty() ? upper : std::max(box.window.lo_s, score.window_start_s);
+    const double opens = box.window.empty() ? upper : std::max(box.window.lo_s, miss.window_start_s);
     for (double before : kBeforeWindow) add(opens - before, failing);
     if (points.size() < 4)
         for (double t = lower; t < upper; t += kGridSpacing) add(t, failing);
-    return {points.begin(), points.end()};
+    return worth_branching(w, score, failing_set, points);
+}
+
+std::vector<Branch> BranchPlanner::worth_branching(const StoredWorld& w, const GoalScore& score,
+                                                   const std::set<uint32_t>& failing_set,
+                                                   const std::set<Branch>& points) const {
+    // The bodies holding a part already met (the failing bodies aside: they are to change).
+    std::set<uint32_t> kept;
+    for (size_t k = 0; k < boxes_.size(); ++k) {
+        const QueryBox& part = boxes_[k];
+        if (part.negative || k >= score.met.size() || !score.met[k]) continue;
+        for (uint32_t b : part.bodies)
+            if (simulated(b) && !failing_set.count(b)) kept.insert(b);
+    }
+    // Per body, its last impact, and the last time it touched a kept body.
+    std::map<uint32_t, double> last_impact, last_touch_of_kept;
+    for (const ContactEvent& c : w.contacts) {
+        if (c.body < 0) continue;
+        const auto a = static_cast<uint32_t>(c.body);
+        last_impact[a] = std::max(last_impact[a], c.time_s);
+        if (c.other < 0) continue;
+        const auto o = static_cast<uint32_t>(c.other);
+        if (kept.count(o)) last_touch_of_kept[a] = std::max(last_touch_of_kept[a], c.time_s);
+        if (kept.count(a)) last_touch_of_kept[o] = std::max(last_touch_of_kept[o], c.time_s);
+    }
+    const auto at_or_after = [](const std::map<uint32_t, double>& times, uint32_t body, double t) {
+        const auto it = times.find(body);
+        return it != times.end() && it->second >= t;
+    };
+    std::vector<Branch> worth;
+    for (const Branch& point : points) {
+        // The children re-simulate from the start of the branch frame.
+        const double branch_time = static_cast<double>(point.frame) / w.record_hz;
+        bool perturbed = false, keeps = true;
+        for (uint32_t b : jointed_with(point.bodies)) {
+            perturbed = perturbed || at_or_after(last_impact, b, branch_time);
+            if (kept.count(b) || at_or_after(last_touch_of_kept, b, branch_time)) keeps = false;
+        }
+        if (perturbed && keeps) worth.push_back(point);
+    }
+    return worth;
 }
 
 std::set<uint32_t> BranchPlanner::jointed_with(const std::vector<uint32_t>& bodies) const {
@@ -114,12 +155,34 @@ std::set<uint32_t> BranchPlanner::jointed_with(const std::vector<uint32_t>& bodi
 }
 
 bool BranchPlanner::choose(uint64_t world, const StoredWorld& record, const GoalScore& score, Branch& chosen) {
-    std::vector<Branch> points = branch_points(record, score);
+    // The parts it could meet next, those its refinements failed least often first, nearest
+    // first among equals: a part whose children keep failing gives way to the next.
+    std::vector<const GoalScore::Miss*> parts;
+    for (const GoalScore::Miss& miss : score.misses) parts.push_back(&miss);
+    std::stable_sort(parts.begin(), parts.end(), [&](const GoalScore::Miss* a, const GoalScore::Miss* b) {
+        return failures_of(world, a->part) < failures_of(world, b->part);
+    });
+    for (const GoalScore::Miss* miss : parts)
+        if (choose_for(world, record, score, *miss, chosen)) {
+            refined_part_[world] = miss->part;
+            return true;
+        }
+    return false;
+}
+
+uint32_t BranchPlanner::failures_of(uint64_t world, int32_t part) const {
+    const auto it = failures_.find({world, part});
+    return it == failures_.end() ? 0 : it->second;
+}
+
+bool BranchPlanner::choose_for(uint64_t world, const StoredWorld& record, const GoalScore& score,
+                               const GoalScore::Miss& miss, Branch& chosen) {
+    std::vector<Branch> points = branch_points(record, score, miss);
     std::vector<size_t> open;
     for (size_t k = 0; k < points.size(); ++k)
         if (!tried_.count({world, points[k]})) open.push_back(k);
     if (open.empty()) return false;
-    const uint32_t failures = std::min<uint32_t>(failures_[world], 20);
+    const uint32_t failures = std::min<uint32_t>(failures_of(world, miss.part), 20);
     const double target = static_cast<double>(points.size() - 1) - static_cast<double>((1u << failures) - 1);
     std::vector<double> weights;
     double total = 0;
@@ -143,16 +206,17 @@ bool BranchPlanner::choose(uint64_t world, const StoredWorld& record, const Goal
 
 void BranchPlanner::note_children(uint64_t parent, double parent_value,
                                   const std::vector<std::pair<uint64_t, double>>& children, double gain) {
-    const uint32_t parent_failures = failures_[parent];
+    const int32_t part = refined_part_.count(parent) ? refined_part_.at(parent) : -1;
+    const uint32_t parent_failures = failures_of(parent, part);
     double best_child = -1;
     for (const auto& [child, value] : children) {
         best_child = std::max(best_child, value);
         // A child no better than its parent failed where the parent did: it starts backing
         // up from there instead of trying the same late branch points again.
-        failures_[child] = value > parent_value + gain ? 0 : parent_failures + 1;
+        failures_[{child, part}] = value > parent_value + gain ? 0 : parent_failures + 1;
     }
-    if (best_child > parent_value + gain) failures_[parent] = 0;
-    else ++failures_[parent];
+    if (best_child > parent_value + gain) failures_[{parent, part}] = 0;
+    else ++failures_[{parent, part}];
 }
 
 }  // namespace mwb
