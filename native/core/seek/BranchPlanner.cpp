@@ -37,7 +37,7 @@ bool BranchPlanner::simulated(uint32_t body) const {
 }
 
 std::vector<Branch> BranchPlanner::branch_points(const StoredWorld& w, const GoalScore& score,
-                                                 const GoalScore::Miss& miss) const {
+                                                 const GoalScore::Miss& miss, bool risking_met) const {
     const QueryBox& box = boxes_[static_cast<size_t>(miss.part)];
     const double hz = w.record_hz;
     const double world_end = (w.first_frame + w.frame_count - 1) / hz;
@@ -93,12 +93,12 @@ std::vector<Branch> BranchPlanner::branch_points(const StoredWorld& w, const Goa
     for (double before : kBeforeWindow) add(opens - before, failing);
     if (points.size() < 4)
         for (double t = lower; t < upper; t += kGridSpacing) add(t, failing);
-    return worth_branching(w, score, failing_set, points);
+    return worth_branching(w, score, failing_set, points, risking_met);
 }
 
 std::vector<Branch> BranchPlanner::worth_branching(const StoredWorld& w, const GoalScore& score,
                                                    const std::set<uint32_t>& failing_set,
-                                                   const std::set<Branch>& points) const {
+                                                   const std::set<Branch>& points, bool risking_met) const {
     // The bodies holding a part already met (the failing bodies aside: they are to change).
     std::set<uint32_t> kept;
     for (size_t k = 0; k < boxes_.size(); ++k) {
@@ -131,7 +131,7 @@ std::vector<Branch> BranchPlanner::worth_branching(const StoredWorld& w, const G
             perturbed = perturbed || at_or_after(last_impact, b, branch_time);
             if (kept.count(b) || at_or_after(last_touch_of_kept, b, branch_time)) keeps = false;
         }
-        if (perturbed && keeps) worth.push_back(point);
+        if (perturbed && keeps != risking_met) worth.push_back(point);
     }
     return worth;
 }
@@ -162,11 +162,15 @@ bool BranchPlanner::choose(uint64_t world, const StoredWorld& record, const Goal
     std::stable_sort(parts.begin(), parts.end(), [&](const GoalScore::Miss* a, const GoalScore::Miss* b) {
         return failures_of(world, a->part) < failures_of(world, b->part);
     });
-    for (const GoalScore::Miss* miss : parts)
-        if (choose_for(world, record, score, *miss, chosen)) {
-            refined_part_[world] = miss->part;
-            return true;
-        }
+    // Points that keep every met part first, for every part; only when none is left, those that
+    // re-simulate a met part's body: where the bodies all touch (the quick start's toys tumbling
+    // down one chute) no point keeps them, and a search that refused the rest would stall.
+    for (bool risking_met : {false, true})
+        for (const GoalScore::Miss* miss : parts)
+            if (choose_for(world, record, score, *miss, risking_met, chosen)) {
+                refined_part_[world] = miss->part;
+                return true;
+            }
     return false;
 }
 
@@ -176,8 +180,8 @@ uint32_t BranchPlanner::failures_of(uint64_t world, int32_t part) const {
 }
 
 bool BranchPlanner::choose_for(uint64_t world, const StoredWorld& record, const GoalScore& score,
-                               const GoalScore::Miss& miss, Branch& chosen) {
-    std::vector<Branch> points = branch_points(record, score, miss);
+                               const GoalScore::Miss& miss, bool risking_met, Branch& chosen) {
+    std::vector<Branch> points = branch_points(record, score, miss, risking_met);
     std::vector<size_t> open;
     for (size_t k = 0; k < points.size(); ++k)
         if (!tried_.count({world, points[k]})) open.push_back(k);

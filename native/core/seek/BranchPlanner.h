@@ -32,7 +32,8 @@ public:
 
     /// An untried branch point of `world` (its record and score) for one of the parts it could
     /// meet next (those failed least often first, then the nearest), drawn near the point its
-    /// failures so far point to (1, 2, 4, ... points earlier than the latest); false when every
+    /// failures so far point to (1, 2, 4, ... points earlier than the latest). Points that would
+    /// re-simulate a met part come only once no other point of any part is left; false when every
     /// point of every such part has been tried.
     bool choose(uint64_t world, const StoredWorld& record, const GoalScore& score, Branch& chosen);
 
@@ -43,19 +44,22 @@ public:
                        double gain);
 
 private:
-    // The points of one part it misses: where `miss` says it went wrong, by the bodies it blames.
-    std::vector<Branch> branch_points(const StoredWorld& w, const GoalScore& score, const GoalScore::Miss& miss) const;
+    // The points of one part it misses: where `miss` says it went wrong, by the bodies it blames;
+    // those that keep every met part, or (`risking_met`) only those that do not.
+    std::vector<Branch> branch_points(const StoredWorld& w, const GoalScore& score, const GoalScore::Miss& miss,
+                                      bool risking_met) const;
     bool choose_for(uint64_t world, const StoredWorld& record, const GoalScore& score, const GoalScore::Miss& miss,
-                    Branch& chosen);
+                    bool risking_met, Branch& chosen);
     uint32_t failures_of(uint64_t world, int32_t part) const;
-    // The points worth refining at. Not one after which none of its bodies has an impact: with
-    // nothing perturbed its children all repeat the parent. Nor one re-simulating a body that
-    // holds a met part, or a touch of one: refining a letter before its last touch of a letter
-    // already in its slot knocked that one out in most children (SIGGRAPH, 3 minutes of a
-    // search: 78% of such children lost a letter, 0.1% gained one and lost none, against 17%
-    // and 1.7% of the others).
+    // The points worth refining at. Never one after which none of its bodies has an impact: with
+    // nothing perturbed its children all repeat the parent. Then, unless `risking_met`, the points
+    // that re-simulate no body holding a met part nor a touch of one, else only those that do:
+    // refining a letter before its last touch of a letter already in its slot knocked that one
+    // out in most children (SIGGRAPH, 3 minutes of a search: 78% of such children lost a letter,
+    // 0.1% gained one and lost none, against 17% and 1.7% of the others).
     std::vector<Branch> worth_branching(const StoredWorld& w, const GoalScore& score,
-                                        const std::set<uint32_t>& failing_set, const std::set<Branch>& points) const;
+                                        const std::set<uint32_t>& failing_set, const std::set<Branch>& points,
+                                        bool risking_met) const;
     bool simulated(uint32_t body) const;
     // `bodies` and every body joined to them through enabled constraints, transitively.
     std::set<uint32_t> jointed_with(const std::vector<uint32_t>& bodies) const;
