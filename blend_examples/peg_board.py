@@ -105,10 +105,10 @@ def build_wall_bumps(board, row, z, mats):
     """Square bumps set corner-first into both side walls at the height of a row whose outermost
     pegs are far from the walls. Without them the strip between the outermost pegs and a wall has
     nothing in it for every other row: a letter that drifts into it falls almost straight down to
-    the end slot (on the tall board, 4 of 5 letters starting off-centre did). Their faces slope at
-    45 degrees, so nothing rests on them, and the gap left between a bump's corner and the nearest
-    pegs is wider than the rows' own, so nothing wedges there (round bumps, whose undersides
-    pinch letters against the pegs below, left twice as many letters hanging in the board)."""
+    the end slot (on the tall board, two thirds or more of the letters starting farthest out did).
+    Their faces slope at 45 degrees, so nothing rests on them, and the gap left between a bump's
+    corner and the nearest pegs is wider than the rows' own, so nothing wedges there (round bumps
+    as far out pinched letters between their undersides and the pegs below)."""
     wall_face = board_width(board) / 2
     side_length = WALL_BUMP_REACH * math.sqrt(2)
     for side, sign in (("L", -1), ("R", 1)):
