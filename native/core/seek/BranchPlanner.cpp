@@ -131,7 +131,7 @@ std::vector<Branch> BranchPlanner::worth_branching(const StoredWorld& w, const G
             perturbed = perturbed || at_or_after(last_impact, b, branch_time);
             if (kept.count(b) || at_or_after(last_touch_of_kept, b, branch_time)) keeps = false;
         }
-        if (perturbed && keeps != risking_met) worth.push_back(point);
+        if (perturbed && (risking_met ? !keeps : keeps)) worth.push_back(point);
     }
     return worth;
 }
