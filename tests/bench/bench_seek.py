@@ -13,7 +13,9 @@ browser's query. Prints a line per batch, then the median and the worst, and
 batches together: 0 when the example tests a search), `BENCH seek_NAME_reached` (batches that
 reached it), `BENCH seek_NAME_worst_worlds`, `BENCH seek_NAME_worst_s`, and the medians
 `BENCH seek_NAME_worlds` and `BENCH seek_NAME_s` (worlds simulated and wall time, the first batch
-included).
+included). `BENCH seek_NAME_children_losing_met_pct` and `_children_gaining_pct`: of the worlds its
+refinements made, all batches together, the share that lost a goal box their parent met and the
+share meeting more boxes than their parent.
 """
 import contextlib
 import json
@@ -263,12 +265,42 @@ def query_boxes(goal, library):
     return out
 
 
-def goal_matches(goal, goal_path, library_path):
-    """The worlds of the library that meet the goal: its boxes by the browser's own query, and
-    every part (orientation parts too) as the search scores them; both must agree."""
+def indexed(library_path):
+    """The library and the browser's path index of all its worlds."""
     library = _native.Library(library_path)
     index = _native.PathIndex(_native.body_bounding_radii(_native.Scene.from_json(library.scene_json)))
     index.add_library(library)
+    return library, index
+
+
+def refinement_effects(goal, library_path):
+    """Of the worlds refinement made, how many lost a goal box their parent met, and how many
+    meet more boxes than it (orientation parts aside): (children, lost, gained)."""
+    library, index = indexed(library_path)
+    boxes = query_boxes(goal, library)
+    met = {}
+
+    def met_of(world):
+        if world not in met:
+            met[world] = list(index.score(world, boxes).met)
+        return met[world]
+
+    children = lost = gained = 0
+    for world in (int(w) for w in library.world_indices):
+        parent = library.world_info(world).parent_world
+        if parent < 0:
+            continue
+        child, before = met_of(world), met_of(parent)
+        children += 1
+        lost += any(was and not now for was, now in zip(before, child))
+        gained += sum(child) > sum(before)
+    return children, lost, gained
+
+
+def goal_matches(goal, goal_path, library_path):
+    """The worlds of the library that meet the goal: its boxes by the browser's own query, and
+    every part (orientation parts too) as the search scores them; both must agree."""
+    library, index = indexed(library_path)
     by_boxes = set(int(w) for w in index.query(query_boxes(goal, library)).matching)
     with open(goal_path) as f:
         by_parts = set(int(w) for w in _native.worlds_meeting_goal(library_path, f.read()))
@@ -294,9 +326,15 @@ def search_from(seed, scene_json, goal_path, goal, folder):
     reached = bool(outcome["reached"]) and all(w in matching for w in outcome["found"])
     lineage = len(library.world_info(outcome["best"]).lineage) if outcome["best"] in set(
         int(w) for w in library.world_indices) else 0
+    children, lost, gained = refinement_effects(goal, library_path)
     return {"seed": seed, "first_met": len(first_met), "reached": reached, "worlds": FIRST_BATCH + outcome["worlds_made"],
             "s": elapsed, "best": outcome["best"], "best_boxes_met": outcome["best_boxes_met"], "boxes": outcome["boxes"],
-            "refinements": outcome["refinements"], "lineage": lineage}
+            "refinements": outcome["refinements"], "lineage": lineage, "children": children, "lost": lost,
+            "gained": gained}
+
+
+def percent(part, whole, sign="%"):
+    return f"{100 * part / whole:.1f}{sign}" if whole else "n/a"
 
 
 def main():
@@ -329,7 +367,9 @@ def main():
             print(f"{name} seed {seed}: {run['first_met']} of the first {FIRST_BATCH} worlds meet the goal; "
                   f"{'reached' if run['reached'] else 'not reached'}: best world {run['best']} meets "
                   f"{run['best_boxes_met']} of {run['boxes']} goal parts ({run['lineage']} refinements deep), "
-                  f"{run['worlds']} worlds, {run['refinements']} refine calls, {run['s']:.1f} s", flush=True)
+                  f"{run['worlds']} worlds, {run['refinements']} refine calls, {run['s']:.1f} s; of its "
+                  f"{run['children']} refined worlds {percent(run['lost'], run['children'])} lost a box their "
+                  f"parent met, {percent(run['gained'], run['children'])} met more boxes", flush=True)
     worlds = sorted(r["worlds"] for r in runs)
     seconds = sorted(r["s"] for r in runs)
     reached = sum(r["reached"] for r in runs)
@@ -344,6 +384,11 @@ def main():
     print(f"BENCH seek_{name}_s {seconds[median]:.1f}")
     print(f"BENCH seek_{name}_worst_worlds {worlds[-1]}")
     print(f"BENCH seek_{name}_worst_s {seconds[-1]:.1f}")
+    # Why a search stalls: refined worlds losing what their parent had, and how few gain.
+    children = sum(r["children"] for r in runs)
+    if children:
+        print(f"BENCH seek_{name}_children_losing_met_pct {percent(sum(r['lost'] for r in runs), children, '')}")
+        print(f"BENCH seek_{name}_children_gaining_pct {percent(sum(r['gained'] for r in runs), children, '')}")
 
 
 main()
