@@ -265,18 +265,10 @@ def query_boxes(goal, library):
     return out
 
 
-def indexed(library_path):
-    """The library and the browser's path index of all its worlds."""
-    library = _native.Library(library_path)
-    index = _native.PathIndex(_native.body_bounding_radii(_native.Scene.from_json(library.scene_json)))
-    index.add_library(library)
-    return library, index
-
-
-def refinement_effects(goal, library_path):
+def refinement_effects(goal, library, index):
     """Of the worlds refinement made, how many lost a goal box their parent met, and how many
-    meet more boxes than it (orientation parts aside): (children, lost, gained)."""
-    library, index = indexed(library_path)
+    meet more boxes than it (orientation parts aside): (children, lost, gained). `index` holds
+    every world of `library`."""
     boxes = query_boxes(goal, library)
     met = {}
 
@@ -299,14 +291,17 @@ def refinement_effects(goal, library_path):
 
 def goal_matches(goal, goal_path, library_path):
     """The worlds of the library that meet the goal: its boxes by the browser's own query, and
-    every part (orientation parts too) as the search scores them; both must agree."""
-    library, index = indexed(library_path)
+    every part (orientation parts too) as the search scores them; both must agree. Returns the
+    library, the browser's path index of all its worlds, and those worlds."""
+    library = _native.Library(library_path)
+    index = _native.PathIndex(_native.body_bounding_radii(_native.Scene.from_json(library.scene_json)))
+    index.add_library(library)
     by_boxes = set(int(w) for w in index.query(query_boxes(goal, library)).matching)
     with open(goal_path) as f:
         by_parts = set(int(w) for w in _native.worlds_meeting_goal(library_path, f.read()))
     if not by_parts <= by_boxes:
         raise SystemExit(f"worlds {sorted(by_parts - by_boxes)} meet the goal as searched but not the browser's boxes")
-    return library, by_parts
+    return library, index, by_parts
 
 
 def search_from(seed, scene_json, goal_path, goal, folder):
@@ -317,16 +312,16 @@ def search_from(seed, scene_json, goal_path, goal, folder):
     start = time.perf_counter()
     engine("sample", "--scene", scene_json, "--out", library_path, "--worlds", f"0:{FIRST_BATCH}", "--seed", str(seed))
     sampled_s = time.perf_counter() - start
-    _, first_met = goal_matches(goal, goal_path, library_path)
+    _, _, first_met = goal_matches(goal, goal_path, library_path)
     out = engine("seek", "--library", library_path, "--goal", goal_path, "--want", "1", "--seed", str(seed),
                  "--budget-worlds", str(BUDGET_WORLDS), "--budget-s", str(max(1.0, BUDGET_S - sampled_s)), "--json")
     elapsed = time.perf_counter() - start
     outcome = json.loads(out.strip().splitlines()[-1])
-    library, matching = goal_matches(goal, goal_path, library_path)
+    library, index, matching = goal_matches(goal, goal_path, library_path)
     reached = bool(outcome["reached"]) and all(w in matching for w in outcome["found"])
     lineage = len(library.world_info(outcome["best"]).lineage) if outcome["best"] in set(
         int(w) for w in library.world_indices) else 0
-    children, lost, gained = refinement_effects(goal, library_path)
+    children, lost, gained = refinement_effects(goal, library, index)
     return {"seed": seed, "first_met": len(first_met), "reached": reached, "worlds": FIRST_BATCH + outcome["worlds_made"],
             "s": elapsed, "best": outcome["best"], "best_boxes_met": outcome["best_boxes_met"], "boxes": outcome["boxes"],
             "refinements": outcome["refinements"], "lineage": lineage, "children": children, "lost": lost,

@@ -64,7 +64,6 @@ TEST(BranchPlanner, KeepsMetPartsBranchesOnlyWhereSomethingIsPerturbedAndTriesEv
     // First every point that keeps A's part: B only after its touch of A at 4 s, at its impacts
     // after it; C only up to its last impact (the 0.5 s grid and its impacts).
     ASSERT_EQ(chosen.size(), 12u);
-    std::set<std::pair<uint32_t, uint64_t>> distinct;
     size_t of_b = 0, of_c = 0;
     for (size_t k = 0; k < 8; ++k) {
         const Branch& p = chosen[k];
@@ -84,6 +83,7 @@ TEST(BranchPlanner, KeepsMetPartsBranchesOnlyWhereSomethingIsPerturbedAndTriesEv
         EXPECT_EQ(chosen[k].bodies, (std::vector<uint32_t>{2}));
         EXPECT_LE(seconds(chosen[k]), 4.0);
     }
+    std::set<std::pair<uint32_t, uint64_t>> distinct;
     for (const Branch& p : chosen) distinct.insert({p.bodies[0], p.frame});
     EXPECT_EQ(distinct.size(), chosen.size()) << "each point once";
 }
