@@ -87,7 +87,7 @@ def test_seek_refines_until_a_world_meets_every_box_and_previews_the_best(quicks
     # The engine and the add-on count the same boxes for it.
     assert boxes_met(outcome.best) == outcome.best_boxes_met
     # Random sampling meets this goal in about one world in a hundred; the search within 600
-    # (refining, and sampling afresh when refinement stops getting nearer).
+    # (its first worlds tell it so: after a round of refinement it samples afresh).
     assert outcome.reached, SESSION.status
     # One refinement makes several worlds at once: more than the one wanted may meet the goal.
     assert SESSION.status.startswith("Goal reached: "), SESSION.status

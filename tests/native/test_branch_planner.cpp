@@ -1,7 +1,8 @@
 // Where a goal search branches a world, on a hand-made world of three boxes on a floor: it never
-// re-simulates a body holding a met part, re-simulates a touch of one only once nothing else is
-// left, never branches where nothing after would be perturbed, and turns to the next part a world
-// misses when one keeps failing.
+// re-simulates a body holding a met part; it branches where the refined bodies' touches, or the
+// touches those pass on, reach a met body only once nothing else is left; it never branches where
+// nothing after would be perturbed, turns to the next part a world misses when one keeps
+// failing, and learns how late in a part's span to branch from which refinements paid.
 #include <gtest/gtest.h>
 
 #include <set>
@@ -88,6 +89,34 @@ TEST(BranchPlanner, KeepsMetPartsBranchesOnlyWhereSomethingIsPerturbedAndTriesEv
     EXPECT_EQ(distinct.size(), chosen.size()) << "each point once";
 }
 
+TEST(BranchPlanner, ATouchPassedOnToAMetBodyPutsItAtRiskToo) {
+    // C hits B at 2 s and B hits A (in its box) at 4 s: a child whose C goes another way may
+    // leave B on another course too, into A. C is the only part left.
+    ThreeBoxes s;
+    s.world.contacts.push_back({2.0, 3, 2, 1.0});
+    s.score.misses = {{2, 0.3, 6.0, 0.0, {3}}};
+    s.score.first_unmet = 2;
+    s.score.failing_bodies = {3};
+    BranchPlanner planner(s.scene, s.parts, 7);
+    std::vector<Branch> chosen;
+    Branch b;
+    while (planner.choose(0, s.world, s.score, b)) {
+        chosen.push_back(b);
+        ASSERT_LT(chosen.size(), 50u);
+    }
+    // Keeping A: C after its touch of B (its impact at 2.5 s), and C with B (which hit it) after
+    // B's touch of A (B's impacts at 5 and 5.5 s).
+    const std::set<std::pair<std::vector<uint32_t>, double>> keeping = {{{3}, 2.5}, {{2, 3}, 5.0}, {{2, 3}, 5.5}};
+    ASSERT_EQ(chosen.size(), 10u);
+    std::set<std::pair<std::vector<uint32_t>, double>> first;
+    for (size_t k = 0; k < 3; ++k) first.insert({chosen[k].bodies, seconds(chosen[k])});
+    EXPECT_EQ(first, keeping);
+    // Then the rest: C alone at 0.5, 1.5 and 2 s, whose touch passes on to A, and C with B up to 4 s.
+    for (size_t k = 3; k < chosen.size(); ++k) {
+        EXPECT_LE(seconds(chosen[k]), chosen[k].bodies.size() == 1 ? 2.0 : 4.0);
+    }
+}
+
 TEST(BranchPlanner, APartWhoseChildrenFailGivesWayToTheNextOne) {
     const ThreeBoxes s;
     BranchPlanner planner(s.scene, s.parts, 7);
@@ -103,6 +132,46 @@ TEST(BranchPlanner, APartWhoseChildrenFailGivesWayToTheNextOne) {
     planner.note_children(0, 1.6, {{12, 1.9}}, 0.02);
     ASSERT_TRUE(planner.choose(0, s.world, s.score, third));
     EXPECT_EQ(third.bodies, (std::vector<uint32_t>{3}));
+}
+
+// C alone misses its part (A meets its own); C hits the floor every 0.25 s until 6 s, when it
+// went wrong: points all over its span. Each of `worlds` worlds (the same record) is refined
+// once, and its children meet C's part only when it branched in the first quarter of that span
+// (or, if `late_pays`, in the last). Returns the branch times chosen, in order.
+std::vector<double> times_chosen_when_only_some_pay(bool late_pays, size_t worlds) {
+    ThreeBoxes s;
+    s.world.contacts.clear();
+    for (double t = 0.25; t < 6.0; t += 0.25) s.world.contacts.push_back({t, 3, 0, 1.0});
+    s.score.misses = {{2, 0.3, 6.0, 0.0, {3}}};
+    s.score.first_unmet = 2;
+    s.score.failing_bodies = {3};
+    s.score.closeness = 0.3;
+    BranchPlanner planner(s.scene, s.parts, 11);
+    std::vector<double> times;
+    for (uint64_t world = 0; world < worlds; ++world) {
+        Branch b;
+        EXPECT_TRUE(planner.choose(world, s.world, s.score, b));
+        const double t = seconds(b);
+        times.push_back(t);
+        const bool pays = late_pays ? t >= 4.5 : t < 1.5;
+        // A child meeting C's part has 2 parts met; one that does not comes no closer.
+        planner.note_children(world, 1.3, {{1000 + world, pays ? 2.1 : 1.3}}, 0.02);
+    }
+    return times;
+}
+
+TEST(BranchPlanner, LearnsHowLateToBranchFromTheRefinementsThatPaid) {
+    // A letter's fall through pegs is decided early: branched in the last half of it, no child
+    // reached the letter's slot (SIGGRAPH), so a planner that always tried the latest points
+    // first spent most of its search there. Split the span in quarters: once one has paid, the
+    // planner branches mostly there, whichever it is.
+    for (bool late_pays : {false, true}) {
+        const std::vector<double> times = times_chosen_when_only_some_pay(late_pays, 60);
+        size_t paying = 0;
+        for (size_t k = 30; k < times.size(); ++k) paying += late_pays ? times[k] >= 4.5 : times[k] < 1.5;
+        EXPECT_GE(paying, 25u) << (late_pays ? "the last" : "the first") << " quarter pays; of the last 30 choices, "
+                               << paying << " were there";
+    }
 }
 
 }  // namespace

@@ -37,7 +37,8 @@ bool BranchPlanner::simulated(uint32_t body) const {
 }
 
 std::vector<Branch> BranchPlanner::branch_points(const StoredWorld& w, const GoalScore& score,
-                                                 const GoalScore::Miss& miss, bool risking_met) const {
+                                                 const GoalScore::Miss& miss, bool risking_met,
+                                                 std::vector<size_t>& lateness) const {
     const QueryBox& box = boxes_[static_cast<size_t>(miss.part)];
     const double hz = w.record_hz;
     const double world_end = (w.first_frame + w.frame_count - 1) / hz;
@@ -93,7 +94,13 @@ std::vector<Branch> BranchPlanner::branch_points(const StoredWorld& w, const Goa
     for (double before : kBeforeWindow) add(opens - before, failing);
     if (points.size() < 4)
         for (double t = lower; t < upper; t += kGridSpacing) add(t, failing);
-    return worth_branching(w, score, failing_set, points, risking_met);
+    std::vector<Branch> worth = worth_branching(w, score, failing_set, points, risking_met);
+    lateness.clear();
+    for (const Branch& point : worth) {
+        const double fraction = (static_cast<double>(point.frame) / hz - lower) / (upper - lower);
+        lateness.push_back(std::min(kLatenessBins - 1, static_cast<size_t>(std::max(0.0, fraction) * kLatenessBins)));
+    }
+    return worth;
 }
 
 std::vector<Branch> BranchPlanner::worth_branching(const StoredWorld& w, const GoalScore& score,
@@ -107,31 +114,42 @@ std::vector<Branch> BranchPlanner::worth_branching(const StoredWorld& w, const G
         for (uint32_t b : part.bodies)
             if (simulated(b) && !failing_set.count(b)) kept.insert(b);
     }
-    // Per body, its last impact, and the last time it touched a kept body.
-    std::map<uint32_t, double> last_impact, last_touch_of_kept;
+    // Per body, its last impact; and the touches between simulated bodies, in time order.
+    std::map<uint32_t, double> last_impact;
+    std::vector<const ContactEvent*> touches;
     for (const ContactEvent& c : w.contacts) {
         if (c.body < 0) continue;
         const auto a = static_cast<uint32_t>(c.body);
         last_impact[a] = std::max(last_impact[a], c.time_s);
-        if (c.other < 0) continue;
-        const auto o = static_cast<uint32_t>(c.other);
-        if (kept.count(o)) last_touch_of_kept[a] = std::max(last_touch_of_kept[a], c.time_s);
-        if (kept.count(a)) last_touch_of_kept[o] = std::max(last_touch_of_kept[o], c.time_s);
+        if (c.other >= 0 && simulated(a) && simulated(static_cast<uint32_t>(c.other))) touches.push_back(&c);
     }
-    const auto at_or_after = [](const std::map<uint32_t, double>& times, uint32_t body, double t) {
-        const auto it = times.find(body);
-        return it != times.end() && it->second >= t;
-    };
+    std::stable_sort(touches.begin(), touches.end(),
+                     [](const ContactEvent* x, const ContactEvent* y) { return x->time_s < y->time_s; });
     std::vector<Branch> worth;
     for (const Branch& point : points) {
         // The children re-simulate from the start of the branch frame.
         const double branch_time = static_cast<double>(point.frame) / w.record_hz;
-        bool perturbed = false, keeps = true;
-        for (uint32_t b : jointed_with(point.bodies)) {
-            perturbed = perturbed || at_or_after(last_impact, b, branch_time);
-            if (kept.count(b) || at_or_after(last_touch_of_kept, b, branch_time)) keeps = false;
+        std::set<uint32_t> reached = jointed_with(point.bodies);
+        bool perturbed = false;
+        for (uint32_t b : reached) {
+            const auto it = last_impact.find(b);
+            perturbed = perturbed || (it != last_impact.end() && it->second >= branch_time);
         }
-        if (perturbed && (risking_met ? !keeps : keeps)) worth.push_back(point);
+        if (!perturbed) continue;
+        // What the refined bodies touch from then on, what those touch after, and so on: the
+        // bodies a child may set moving anew, its own touches or its ghosts'.
+        bool keeps = std::none_of(reached.begin(), reached.end(), [&](uint32_t b) { return kept.count(b) > 0; });
+        for (const ContactEvent* c : touches) {
+            if (!keeps) break;
+            if (c->time_s < branch_time) continue;
+            const auto a = static_cast<uint32_t>(c->body), o = static_cast<uint32_t>(c->other);
+            if (reached.count(a) == reached.count(o)) continue;
+            for (uint32_t b : jointed_with({reached.count(a) ? o : a})) {
+                reached.insert(b);
+                if (kept.count(b)) keeps = false;
+            }
+        }
+        if (risking_met ? !keeps : keeps) worth.push_back(point);
     }
     return worth;
 }
@@ -181,13 +199,22 @@ uint32_t BranchPlanner::failures_of(uint64_t world, int32_t part) const {
 
 bool BranchPlanner::choose_for(uint64_t world, const StoredWorld& record, const GoalScore& score,
                                const GoalScore::Miss& miss, bool risking_met, Branch& chosen) {
-    std::vector<Branch> points = branch_points(record, score, miss, risking_met);
-    std::vector<size_t> open;
+    std::vector<size_t> lateness;
+    const std::vector<Branch> points = branch_points(record, score, miss, risking_met, lateness);
+    std::vector<size_t> bins_open;
     for (size_t k = 0; k < points.size(); ++k)
-        if (!tried_.count({world, points[k]})) open.push_back(k);
-    if (open.empty()) return false;
+        if (!tried_.count({world, points[k]})) bins_open.push_back(lateness[k]);
+    if (bins_open.empty()) return false;
+    const size_t bin = choose_lateness(bins_open);
+    // The bin's points, and those of them not tried yet (indices into `in_bin`).
+    std::vector<size_t> in_bin, open;
+    for (size_t k = 0; k < points.size(); ++k) {
+        if (lateness[k] != bin) continue;
+        if (!tried_.count({world, points[k]})) open.push_back(in_bin.size());
+        in_bin.push_back(k);
+    }
     const uint32_t failures = std::min<uint32_t>(failures_of(world, miss.part), 20);
-    const double target = static_cast<double>(points.size() - 1) - static_cast<double>((1u << failures) - 1);
+    const double target = static_cast<double>(in_bin.size() - 1) - static_cast<double>((1u << failures) - 1);
     std::vector<double> weights;
     double total = 0;
     for (size_t k : open) {
@@ -203,9 +230,36 @@ bool BranchPlanner::choose_for(uint64_t world, const StoredWorld& record, const 
         }
         pick -= weights[i];
     }
-    chosen = points[choice];
+    chosen = points[in_bin[choice]];
     tried_.insert({world, chosen});
+    refined_lateness_[world] = bin;
     return true;
+}
+
+size_t BranchPlanner::choose_lateness(const std::vector<size_t>& bins_open) {
+    size_t best = bins_open.front();
+    double best_draw = -1;
+    for (size_t bin = 0; bin < kLatenessBins; ++bin) {
+        if (std::find(bins_open.begin(), bins_open.end(), bin) == bins_open.end()) continue;
+        const LatenessRecord& r = lateness_record_[bin];
+        const double draw = beta_draw(r.gains + 1, r.refinements - r.gains + 1);
+        if (draw > best_draw) {
+            best_draw = draw;
+            best = bin;
+        }
+    }
+    return best;
+}
+
+double BranchPlanner::beta_draw(uint32_t a, uint32_t b) {
+    // Gamma(n) for whole n is a sum of n unit exponentials; Ga / (Ga + Gb) is Beta(a, b).
+    const auto gamma = [&](uint32_t n) {
+        double sum = 0;
+        for (uint32_t i = 0; i < n; ++i) sum -= portable::log(1.0 - random_.uniform01());
+        return sum;
+    };
+    const double ga = gamma(a), gb = gamma(b);
+    return ga / (ga + gb);
 }
 
 void BranchPlanner::note_children(uint64_t parent, double parent_value,
@@ -221,6 +275,13 @@ void BranchPlanner::note_children(uint64_t parent, double parent_value,
     }
     if (best_child > parent_value + gain) failures_[{parent, part}] = 0;
     else ++failures_[{parent, part}];
+    // Whether branching this late paid: a child met a part more than its parent.
+    const auto bin = refined_lateness_.find(parent);
+    if (bin != refined_lateness_.end()) {
+        LatenessRecord& record = lateness_record_[bin->second];
+        ++record.refinements;
+        if (std::floor(best_child) > std::floor(parent_value)) ++record.gains;
+    }
 }
 
 }  // namespace mwb

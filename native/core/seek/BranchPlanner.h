@@ -2,6 +2,7 @@
 // Where a goal search branches a world that misses its goal, and which of those points it tries
 // next: later points first (they keep more of what the world got right), earlier ones as the
 // world's children keep failing.
+#include <array>
 #include <cstdint>
 #include <map>
 #include <set>
@@ -31,9 +32,10 @@ public:
     BranchPlanner(const Scene& scene, const std::vector<QueryBox>& boxes, uint64_t seed);
 
     /// An untried branch point of `world` (its record and score) for one of the parts it could
-    /// meet next (those failed least often first, then the nearest), drawn near the point its
-    /// failures so far point to (1, 2, 4, ... points earlier than the latest). Points that would
-    /// re-simulate a met part come only once no other point of any part is left; false when every
+    /// meet next (those failed least often first, then the nearest). How late in the part's span
+    /// to branch is learnt from the refinements so far; within that, the point is drawn near the
+    /// one its failures point to (1, 2, 4, ... points earlier than the latest). Points that would
+    /// put a met part at risk come only once no other point of any part is left; false when every
     /// point of every such part has been tried.
     bool choose(uint64_t world, const StoredWorld& record, const GoalScore& score, Branch& chosen);
 
@@ -44,10 +46,24 @@ public:
                        double gain);
 
 private:
+    // How late in its part's span a point lies: the span cut in kLatenessBins equal lengths. Which
+    // of them pays is learnt as the search goes (see choose_lateness).
+    static constexpr size_t kLatenessBins = 4;
+    struct LatenessRecord {
+        uint32_t refinements = 0;  ///< refinements branched at points this late
+        uint32_t gains = 0;        ///< of them, those with a child meeting more parts than its parent
+    };
+
     // The points of one part it misses: where `miss` says it went wrong, by the bodies it blames;
-    // those that keep every met part, or (`risking_met`) only those that do not.
+    // those that keep every met part, or (`risking_met`) only those that do not. `lateness`: each
+    // point's bin.
     std::vector<Branch> branch_points(const StoredWorld& w, const GoalScore& score, const GoalScore::Miss& miss,
-                                      bool risking_met) const;
+                                      bool risking_met, std::vector<size_t>& lateness) const;
+    // A lateness bin among those with an open point: each drawn from what its refinements paid so
+    // far (Thompson sampling), the best draw wins.
+    size_t choose_lateness(const std::vector<size_t>& bins_open);
+    // A draw from Beta(a, b), integer a and b >= 1, from this planner's own stream.
+    double beta_draw(uint32_t a, uint32_t b);
     bool choose_for(uint64_t world, const StoredWorld& record, const GoalScore& score, const GoalScore::Miss& miss,
                     bool risking_met, Branch& chosen);
     uint32_t failures_of(uint64_t world, int32_t part) const;
@@ -69,6 +85,8 @@ private:
     PortableRandom random_;
     std::map<std::pair<uint64_t, int32_t>, uint32_t> failures_;  ///< (world, part): children that failed it
     std::map<uint64_t, int32_t> refined_part_;                     ///< world: the part last refined
+    std::map<uint64_t, size_t> refined_lateness_;                  ///< world: the bin of its last branch point
+    std::array<LatenessRecord, kLatenessBins> lateness_record_{};
     std::set<std::pair<uint64_t, Branch>> tried_;
 };
 

@@ -6,7 +6,9 @@
 // Each round keeps a beam of the best worlds (most boxes met along the order, then closest to
 // the next box). Each beam world is refined where its first unmet box went wrong: before that
 // box's window, at the collisions of the bodies that missed it, and at the collisions of the
-// bodies that hit them; later branch points first, earlier ones as its children keep failing.
+// bodies that hit them; how late in that span is learnt from which refinements paid. When the
+// worlds sampled so far say fresh ones meet the goal sooner than refinement gains parts, or
+// refinement stalls, it samples afresh instead.
 #include <atomic>
 #include <cstdint>
 #include <functional>

@@ -49,7 +49,8 @@ ScoredWorlds::ScoredWorlds(LibraryReader& reader, const Scene& scene, const std:
       order_(goal_order(boxes)),
       oriented_bodies_(oriented_bodies(boxes)),
       index_(body_radii(scene)),
-      threads_(threads) {}
+      threads_(threads),
+      sampled_meeting_(boxes.size(), 0) {}
 
 void ScoredWorlds::take_new_worlds() {
     reader_.poll();
@@ -75,9 +76,25 @@ void ScoredWorlds::take_new_worlds() {
         // A world that gets as far as one already scored (to a thousandth of a box) is, for
         // the goal, the same world: refining both would repeat work.
         else if (!seen_values_.insert(std::llround(score.value() * 1000)).second) spent_.insert(w);
+        if (stored(w).lineage.empty()) {
+            ++sampled_;
+            if (score.first_unmet < 0) ++sampled_found_;
+            for (size_t k = 0; k < score.met.size() && k < sampled_meeting_.size(); ++k) sampled_meeting_[k] += score.met[k];
+        }
         ranking_.insert(std::make_pair(-score.value(), w));
         scores_.emplace(w, std::move(score));
     }
+}
+
+double ScoredWorlds::sampled_goal_odds() const {
+    double odds = 1.0;
+    for (size_t k = 0; k < boxes_.size(); ++k) {
+        const int32_t after = boxes_[k].after;
+        const uint64_t reaching = after >= 0 ? sampled_meeting_[static_cast<size_t>(after)] : sampled_;
+        odds *= (static_cast<double>(sampled_meeting_[k]) + 0.5) / (static_cast<double>(reaching) + 1.0);
+    }
+    const double whole = sampled_ > 0 ? static_cast<double>(sampled_found_) / static_cast<double>(sampled_) : 0.0;
+    return std::max(odds, whole);
 }
 
 uint64_t ScoredWorlds::family_of(uint64_t world) const {

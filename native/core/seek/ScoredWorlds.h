@@ -32,6 +32,12 @@ public:
     double best_value() const { return ranking_.empty() ? 0.0 : -ranking_.begin()->first; }
     /// Every world meeting the whole goal.
     const std::set<uint64_t>& found() const { return found_; }
+    /// The chance that a world sampled afresh meets the whole goal, judged by the sampled worlds
+    /// (those with no parent) scored so far: per part, the share of them meeting it among those
+    /// meeting the part it follows (all of them for a part that follows none), each smoothed
+    /// toward a half while there are few, multiplied together; or the share meeting the whole
+    /// goal when that is higher (parts that come together).
+    double sampled_goal_odds() const;
     /// A world no refinement of which is worth trying any more.
     void spend(uint64_t world) { spent_.insert(world); }
 
@@ -55,6 +61,8 @@ private:
     std::set<std::pair<double, uint64_t>> ranking_;  ///< (-value, world index): best first
     std::set<uint64_t> found_, spent_;
     std::set<long long> seen_values_;
+    uint64_t sampled_ = 0, sampled_found_ = 0;  ///< sampled worlds scored, and of them those meeting the goal
+    std::vector<uint64_t> sampled_meeting_;      ///< per part, the sampled worlds meeting it
 };
 
 }  // namespace mwb
