@@ -1,7 +1,8 @@
 #pragma once
 // Where a goal search branches a world that misses its goal, and which of those points it tries
-// next: later points first (they keep more of what the world got right), earlier ones as the
-// world's children keep failing.
+// next: how late in the part's span, learnt from which refinements paid; within that, later
+// points first (they keep more of what the world got right), earlier ones as the world's
+// children keep failing.
 #include <array>
 #include <cstdint>
 #include <map>
