@@ -1,5 +1,6 @@
 // Goal files and the goal search on a small library: bad goals are refused in one line, corrupted
-// goal files never crash, the search is the same on 1 and 2 threads, and cancelling keeps worlds.
+// goal files never crash, the search is the same on 1 and 2 threads, a family that stops gaining
+// parts gives way to another, and cancelling keeps worlds.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -263,6 +264,41 @@ TEST_F(Seek, OrientationPartsAreSearchedForDeterministicallyAndHoldInTheWorldsFo
             EXPECT_GE(x[0], std::cos(2.0 * 3.14159265358979323846 / 180)) << "world " << w.world_index << " frame " << frame;
         }
     }
+}
+
+TEST_F(Seek, AFamilyWhoseRefinementsStopMeetingMorePartsGivesWayToAnother) {
+    // Box0, Box1 and Box3 each in a corner it never reaches (beyond the walls): no refinement
+    // meets a part, though children come slightly closer, and no fresh world would (so the
+    // search soon stops sampling). With a beam of one, the family of the world that came nearest
+    // keeps it until every branch point of its worlds is spent; with an allowance of 48 worlds,
+    // it gives way to another family once its refinements made 48 without a part more.
+    const std::string corner = "[396, 396, 400, 400]";
+    const auto most_refined_in_one_family = [&](const std::string& name, uint64_t allowance, size_t& families) {
+        const std::string file = copy_of_start(name);
+        SeekRequest r = request(2);
+        r.boxes = goal_from_json(goal_json({box_json(R"(["Box0"])", false, "null", corner),
+                                            box_json(R"(["Box1"])", false, "null", corner),
+                                            box_json(R"(["Box3"])", false, "null", corner)}),
+                                 scene_);
+        r.beam_width = 1;
+        r.children_per_branch = 8;
+        r.budget_worlds = 400;
+        r.family_stall_worlds = allowance;
+        EXPECT_FALSE(seek_goal(file, r).reached);
+        std::map<uint64_t, uint64_t> refined_per_family;
+        const LibraryReader reader(file);
+        for (const StoredWorld& w : reader.worlds())
+            if (!w.lineage.empty()) ++refined_per_family[w.root_world];
+        uint64_t most = 0;
+        for (const auto& [family, worlds] : refined_per_family) most = std::max(most, worlds);
+        families = refined_per_family.size();
+        return most;
+    };
+    size_t families_kept = 0, families_set_aside = 0;
+    EXPECT_GT(most_refined_in_one_family("kept.mwb", 400, families_kept), 48u + 8u)
+        << "without an allowance one family should take more: the goal does not test it";
+    EXPECT_LE(most_refined_in_one_family("set_aside.mwb", 48, families_set_aside), 48u + 8u);
+    EXPECT_GE(families_set_aside, 2u) << "the worlds an allowance saves go to other families";
 }
 
 TEST_F(Seek, CancellingKeepsEveryWorldMadeSoFar) {

@@ -32,6 +32,9 @@ struct SeekRequest {
     uint32_t beam_width = 4;
     uint32_t children_per_branch = 8;
     uint64_t first_batch = 32;       ///< worlds sampled first when the library has none
+    /// A family (a sampled world and its descendants) leaves the beam once its refinements made
+    /// this many worlds without one meeting more parts than the family had (see GoalSearch.cpp).
+    uint64_t family_stall_worlds = 1024;
     size_t cache_bytes = size_t{2} << 30;  ///< worlds kept in memory to refine them again
 };
 

@@ -40,15 +40,17 @@ public:
     double sampled_goal_odds() const;
     /// A world no refinement of which is worth trying any more.
     void spend(uint64_t world) { spent_.insert(world); }
+    /// The sampled world `world` descends from (itself if sampled): its family.
+    uint64_t family_of(uint64_t world) const;
+    /// A family none of whose worlds goes into the beam any more (its refinements stopped paying).
+    void set_aside(uint64_t family) { set_aside_.insert(family); }
 
-    /// The best worlds not yet met or spent, best first (ties: lower index), at most
-    /// `per_family` from one sampled world's family, then the best of the rest if the beam is
-    /// not full; at most `width`.
+    /// The best worlds not yet met or spent nor of a family set aside, best first (ties: lower
+    /// index), at most `per_family` from one family, then the best of the rest if the beam is not
+    /// full; at most `width`.
     std::vector<uint64_t> choose_beam(uint32_t width, uint32_t per_family) const;
 
 private:
-    // The sampled world `world` descends from (itself if sampled).
-    uint64_t family_of(uint64_t world) const;
 
     LibraryReader& reader_;
     const std::vector<QueryBox>& boxes_;
@@ -59,7 +61,7 @@ private:
     std::unordered_map<uint64_t, size_t> position_;  ///< world index -> position in reader_.worlds()
     std::unordered_map<uint64_t, GoalScore> scores_;
     std::set<std::pair<double, uint64_t>> ranking_;  ///< (-value, world index): best first
-    std::set<uint64_t> found_, spent_;
+    std::set<uint64_t> found_, spent_, set_aside_;
     std::set<long long> seen_values_;
     uint64_t sampled_ = 0, sampled_found_ = 0;  ///< sampled worlds scored, and of them those meeting the goal
     std::vector<uint64_t> sampled_meeting_;      ///< per part, the sampled worlds meeting it
