@@ -8,7 +8,8 @@
 // box's window, at the collisions of the bodies that missed it, and at the collisions of the
 // bodies that hit them; how late in that span is learnt from which refinements paid. When the
 // worlds sampled so far say fresh ones meet the goal sooner than refinement gains parts, or
-// refinement stalls, it samples afresh instead.
+// refinement stalls, it samples afresh instead; a family (a sampled world and its refinements)
+// whose refinements stop meeting more parts leaves the beam to the next.
 #include <atomic>
 #include <cstdint>
 #include <functional>
