@@ -1,6 +1,7 @@
 // Goal files and the goal search on a small library: bad goals are refused in one line, corrupted
 // goal files never crash, the search is the same on 1 and 2 threads, a family that stops gaining
-// parts gives way to another, and cancelling keeps worlds.
+// parts gives way to another, the odds of a fresh world follow the goal's order, and cancelling
+// keeps worlds.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -17,6 +18,7 @@
 #include "scene/SceneJson.h"
 #include "seek/GoalJson.h"
 #include "seek/GoalSearch.h"
+#include "seek/ScoredWorlds.h"
 #include "sim/PortableRandom.h"
 
 namespace mwb {
@@ -299,6 +301,27 @@ TEST_F(Seek, AFamilyWhoseRefinementsStopMeetingMorePartsGivesWayToAnother) {
         << "without an allowance one family should take more: the goal does not test it";
     EXPECT_LE(most_refined_in_one_family("set_aside.mwb", 48, families_set_aside), 48u + 8u);
     EXPECT_GE(families_set_aside, 2u) << "the worlds an allowance saves go to other families";
+}
+
+TEST_F(Seek, TheOddsOfAFreshWorldCountAnOrderedPartOnlyAmongWorldsMeetingThePartBefore) {
+    // Of the 6 sampled worlds none has Box1 in the far corner (beyond the walls), and all have it
+    // somewhere on the floor. Each part's share is smoothed, (met + 0.5) / (counted + 1).
+    const std::string corner = "[396, 396, 400, 400]", floor = "[0, 0, 400, 400]";
+    LibraryReader reader(path("start.mwb"), ReaderOptions{false, 30});
+    const auto odds = [&](const std::string& after) {
+        const std::vector<QueryBox> goal =
+            goal_from_json(goal_json({box_json(R"(["Box1"])", false, "null", corner),
+                                      box_json(R"(["Box1"])", false, after, floor)}),
+                           scene_);
+        ScoredWorlds worlds(reader, scene_, goal, 1);
+        worlds.take_new_worlds();
+        return worlds.sampled_goal_odds();
+    };
+    // Unordered: the corner 0.5 of 7, the floor 6.5 of 7.
+    EXPECT_NEAR(odds("null"), (0.5 / 7) * (6.5 / 7), 1e-12);
+    // The floor after the corner: no world met the corner, so nothing is known of what follows
+    // it (0.5 of 1); counted among all 6 it would be 0.5 of 7, and the odds 7 times too low.
+    EXPECT_NEAR(odds("0"), (0.5 / 7) * (0.5 / 1), 1e-12);
 }
 
 TEST_F(Seek, CancellingKeepsEveryWorldMadeSoFar) {
