@@ -104,17 +104,18 @@ uint64_t ScoredWorlds::family_of(uint64_t world) const {
 
 std::vector<uint64_t> ScoredWorlds::choose_beam(uint32_t width, uint32_t per_family) const {
     std::vector<uint64_t> beam;
+    const auto open = [&](uint64_t world) {
+        return !found_.count(world) && !spent_.count(world) && !set_aside_.count(family_of(world));
+    };
     std::map<uint64_t, uint32_t> taken;
     for (const auto& [negative_value, world] : ranking_) {
         if (beam.size() >= width) break;
-        if (found_.count(world) || spent_.count(world) || set_aside_.count(family_of(world))) continue;
-        if (taken[family_of(world)]++ >= per_family) continue;
+        if (!open(world) || taken[family_of(world)]++ >= per_family) continue;
         beam.push_back(world);
     }
     for (const auto& [negative_value, world] : ranking_) {
         if (beam.size() >= width) break;
-        if (found_.count(world) || spent_.count(world) || set_aside_.count(family_of(world))) continue;
-        if (std::find(beam.begin(), beam.end(), world) == beam.end()) beam.push_back(world);
+        if (open(world) && std::find(beam.begin(), beam.end(), world) == beam.end()) beam.push_back(world);
     }
     return beam;
 }

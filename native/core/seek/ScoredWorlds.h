@@ -51,7 +51,6 @@ public:
     std::vector<uint64_t> choose_beam(uint32_t width, uint32_t per_family) const;
 
 private:
-
     LibraryReader& reader_;
     const std::vector<QueryBox>& boxes_;
     std::vector<size_t> order_;
