@@ -295,6 +295,36 @@ TEST(GoalScore, AnOrientationPartHoldsWhileTheAxisStaysWithinItsTolerance) {
     EXPECT_THROW(index.query(part), std::invalid_argument);
 }
 
+TEST(GoalScore, PartsMetAfterTheFirstEntryIntoANegativeBoxDoNotCountTowardItsValue) {
+    // Boxes A, B, C along x in turn on body 0; a negative box N high up on both bodies.
+    std::vector<QueryBox> goal{box(0, 1, 0, 1, {0}), box(2, 3, 0, 1, {0}, 0), box(4, 5, 0, 1, {0}, 1),
+                               box(-10, 10, 5, 6, {0, 1}, -1, true)};
+    const std::vector<double> radii{0.1, 0.1};
+    // Body 0 meets A at 0.8 s, B and C later; body 1 reaches up into N at 1.91 s (y = 5 of 5.5).
+    const auto tumble = path_through({{0.5, 3}, {0.5, 0.5}, {0.5, 0.5}, {2.5, 0.5}, {4.5, 0.5}});
+    const auto poking_out = path_through({{-8, 0}, {-8, 0}, {-8, 5.5}, {-8, 0}, {-8, 0}});
+    const GoalScore all_but_n = score_goal({tumble, poking_out}, radii, goal, goal_order(goal));
+    EXPECT_EQ(all_but_n.boxes_met, 3u);
+    EXPECT_NEAR(all_but_n.violation_time_s, 1 + 5 / 5.5, 1.0 / 30);
+    EXPECT_EQ(all_but_n.parts_before_violation, 1u);  // A only: B and C came after
+    // Body 0 meets A and stops short of B; body 1 stays low: fewer boxes, but nothing to undo.
+    const auto stopping = path_through({{0.5, 3}, {0.5, 0.5}, {1.5, 0.5}, {1.5, 0.5}, {1.5, 0.5}});
+    const auto staying = path_through({{-8, 0}, {-8, 0}, {-8, 0}, {-8, 0}, {-8, 0}});
+    const GoalScore a_and_n = score_goal({stopping, staying}, radii, goal, goal_order(goal));
+    EXPECT_EQ(a_and_n.boxes_met, 2u);
+    EXPECT_FALSE(std::isfinite(a_and_n.violation_time_s));
+    EXPECT_EQ(a_and_n.parts_before_violation, 2u);
+    EXPECT_GT(a_and_n.value(), all_but_n.value());
+    // An orientation part counts when its window closed before the violation, not when it closes after.
+    const BodyOrientations still{turning_about_x(tumble.point_count(), 0, 0, 1),
+                                 turning_about_x(poking_out.point_count(), 0, 0, 1)};
+    goal.push_back(upright({0}, 20, {0, 1}));
+    goal.push_back(upright({0}, 20, {0, 3}));
+    const GoalScore upright_too = score_goal({tumble, poking_out}, radii, goal, goal_order(goal), true, &still);
+    EXPECT_EQ(upright_too.boxes_met, 5u);
+    EXPECT_EQ(upright_too.parts_before_violation, 2u);
+}
+
 TEST(PathIndex, OrderedQueriesCountAlongTheOrder) {
     PathIndex index({0.1});
     auto world = [](uint64_t w, std::vector<std::pair<double, double>> waypoints) {

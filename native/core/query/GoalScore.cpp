@@ -323,6 +323,17 @@ GoalScore score_goal(const std::vector<PathView>& paths, const std::vector<doubl
         score.failing_bodies = nearest.failing_bodies;
         score.window_start_s = nearest.window_start_s;
     }
+    for (const GoalScore::Miss& miss : score.misses)
+        if (boxes[static_cast<size_t>(miss.part)].negative)
+            score.violation_time_s = std::min(score.violation_time_s, miss.failure_time_s);
+    for (size_t k = 0; k < boxes.size(); ++k) {
+        if (!score.met[k]) continue;
+        const QueryBox& box = boxes[k];
+        const double decided = box.negative         ? -kInfinity
+                               : box.orientation    ? (box.window.empty() ? kInfinity : box.window.hi_s)
+                                                    : score.met_time_s[k];
+        if (decided < score.violation_time_s) ++score.parts_before_violation;
+    }
     return score;
 }
 

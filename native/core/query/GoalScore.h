@@ -4,6 +4,7 @@
 // how close it comes to the first part it misses. The browser's ordered queries and the goal
 // search both use this.
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "common/Math.h"
@@ -57,8 +58,20 @@ struct GoalScore {
     };
     std::vector<Miss> misses;
 
-    /// Orders worlds: more boxes first, then closer to the next one.
-    double value() const { return boxes_met + closeness; }
+    /// When the world first entered a negative part it misses (a box, or a pose held too long):
+    /// from then on it cannot meet the goal, whatever it meets later. Infinity when it misses no
+    /// negative part. Only with closeness.
+    double violation_time_s = std::numeric_limits<double>::infinity();
+    /// The parts met before that moment: the negative ones it meets, and the positive ones decided
+    /// before it (a box when first met, an orientation part when its window closes). A search
+    /// mending the violation branches before it and re-runs what came after, so only these can be
+    /// kept. boxes_met when no negative part is missed.
+    uint32_t parts_before_violation = 0;
+
+    /// Orders worlds for a search: more parts met before the first violation, then closer to the
+    /// next part. A tumble that goes all the way down after an arm poked out at the top counts no
+    /// more than what it did before poking out.
+    double value() const { return parts_before_violation + closeness; }
 };
 
 /// Scores one world given its body paths (one PathView per scene body, empty for bodies it lacks)
