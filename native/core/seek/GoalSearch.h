@@ -3,13 +3,14 @@
 // of a goal — what a user does by hand with refine, look, refine again. It only samples and
 // refines, so every world it makes is an ordinary world of the library, with its lineage.
 //
-// Each round keeps a beam of the best worlds (most boxes met along the order, then closest to
-// the next box). Each beam world is refined where its first unmet box went wrong: before that
-// box's window, at the collisions of the bodies that missed it, and at the collisions of the
-// bodies that hit them; how late in that span is learnt from which refinements paid. When the
-// worlds sampled so far say fresh ones meet the goal sooner than refinement gains parts, or
-// refinement stalls, it samples afresh instead; a family (a sampled world and its refinements)
-// whose refinements stop meeting more parts leaves the beam to the next.
+// Each round keeps a beam of the best worlds (most parts met along the order before the first
+// entry into a negative part, then closest to the next part). Each beam world is refined where
+// its first unmet box went wrong: before that box's window, at the collisions of the bodies that
+// missed it, and at the collisions of the bodies that hit them; how late in that span is learnt
+// from which refinements paid. When the worlds sampled so far say fresh ones meet the goal sooner
+// than refinement gains parts, or refinement stalls, it samples afresh instead; a family (a
+// sampled world and its refinements) whose refinements stop meeting more parts leaves the beam
+// to the next.
 #include <atomic>
 #include <cstdint>
 #include <functional>
