@@ -219,15 +219,16 @@ TEST(GoalScore, ClosenessOfANegativeBoxIsHowBrieflyThePathStaysInside) {
                               path_through({{-4, 0.5}, {-2, 0.5}, {0, 0.5}, {0.5, 0.5}, {0.5, 0.5}})},
                              {0.1, 0.1}, goal, goal_order(goal));
     EXPECT_EQ(s.boxes_met, 0u);
-    EXPECT_NEAR(s.closeness, 0.5, 0.02);
+    ASSERT_EQ(s.misses.size(), 1u);
+    EXPECT_NEAR(s.misses[0].closeness, 0.5, 0.02);
     EXPECT_NEAR(s.failure_time_s, 2.0, kTimeTolerance);
     EXPECT_EQ(s.failing_bodies, (std::vector<uint32_t>{1, 0}));
     // Inside only briefly: closer to meeting it.
     const GoalScore brief = score_goal({path_through({{5, 0.5}, {5, 0.5}, {5, 0.5}, {5, 0.5}, {5, 0.5}}),
                                         path_through({{-4, 0.5}, {-2, 0.5}, {-0.5, 0.5}, {0.5, 0.5}, {4, 0.5}})},
                                        {0.1, 0.1}, goal, goal_order(goal));
-    EXPECT_GT(brief.closeness, 0.8);
-    EXPECT_LT(brief.closeness, 1.0);
+    EXPECT_GT(brief.misses[0].closeness, 0.8);
+    EXPECT_LT(brief.misses[0].closeness, 1.0);
 }
 
 // An orientation part of `bodies`: axis z within `within_deg` of `target`.
@@ -285,7 +286,7 @@ TEST(GoalScore, AnOrientationPartHoldsWhileTheAxisStaysWithinItsTolerance) {
     const GoalScore lying = met(upright({0}, 20, {}, side, true, 0.5));
     EXPECT_EQ(lying.boxes_met, 0u);
     EXPECT_NEAR(lying.failure_time_s, 3.0 * 70 / 90, 1.0 / 30 + 1e-9);
-    EXPECT_NEAR(lying.closeness, 1 - 1.67 / 4, 0.03);
+    EXPECT_NEAR(lying.misses[0].closeness, 1 - 1.67 / 4, 0.03);
     EXPECT_EQ(met(upright({0}, 20, {0, 2}, side, true)).boxes_met, 1u);  // not yet lying in the first 2 s
 
     // Without the rotations an orientation part cannot be scored, and the index refuses it.
@@ -323,6 +324,46 @@ TEST(GoalScore, PartsMetAfterTheFirstEntryIntoANegativeBoxDoNotCountTowardItsVal
     const GoalScore upright_too = score_goal({tumble, poking_out}, radii, goal, goal_order(goal), true, &still);
     EXPECT_EQ(upright_too.boxes_met, 5u);
     EXPECT_EQ(upright_too.parts_before_violation, 2u);
+}
+
+TEST(GoalScore, AWorldThatBrokeANegativePartIsCloserTheLaterItBroke) {
+    // A then B on body 0; a negative box N high up on body 1. Both worlds meet A only, then body 1
+    // pokes into N: one at 1.5 s and briefly, the other at 2.91 s and stays (4 s paths).
+    const std::vector<QueryBox> goal{box(0, 1, 0, 1, {0}), box(2, 3, 0, 1, {0}, 0), box(-10, 10, 5, 6, {1}, -1, true)};
+    const std::vector<double> radii{0.1, 0.1};
+    const auto meets_a = path_through({{0.5, 3}, {0.5, 0.5}, {1.2, 0.5}, {1.2, 0.5}, {1.2, 0.5}});
+    const auto briefly_early = path_through({{-8, 0}, {-8, 4}, {-8, 6}, {-8, 0}, {-8, 0}});
+    const auto late_for_good = path_through({{-8, 0}, {-8, 0}, {-8, 0}, {-8, 5.5}, {-8, 5.5}});
+    const GoalScore early = score_goal({meets_a, briefly_early}, radii, goal, goal_order(goal));
+    const GoalScore late = score_goal({meets_a, late_for_good}, radii, goal, goal_order(goal));
+    ASSERT_EQ(early.parts_before_violation, 1u);
+    ASSERT_EQ(late.parts_before_violation, 1u);
+    EXPECT_NEAR(early.violation_time_s, 1.5, 1.0 / 30);
+    EXPECT_NEAR(late.violation_time_s, 2 + 5 / 5.5, 1.0 / 30);
+    // Inside N for less of the window, but what it kept before breaking it is shorter.
+    const auto n_closeness = [](const GoalScore& s) {
+        for (const GoalScore::Miss& m : s.misses)
+            if (m.part == 2) return m.closeness;
+        return -1.0;
+    };
+    EXPECT_GT(n_closeness(early), n_closeness(late));
+    EXPECT_NEAR(early.closeness, 1.5 / 4, 0.01);
+    EXPECT_NEAR(late.closeness, (2 + 5 / 5.5) / 4, 0.01);
+    EXPECT_GT(late.value(), early.value());
+    // Breaking N never outranks meeting one more part before it.
+    const GoalScore clean_a = score_goal({meets_a, path_through({{-8, 0}, {-8, 0}, {-8, 0}, {-8, 0}, {-8, 0}})},
+                                         radii, goal, goal_order(goal));
+    EXPECT_GT(clean_a.value(), late.value());
+    // A search takes worlds as the same only if they also broke at the same moment: one broken at
+    // 1 s of a 4 s path and one at 2 s of an 8 s path are equally late, and both worth refining.
+    GoalScore quarter_of_4s = early, quarter_of_8s = early;
+    quarter_of_4s.violation_time_s = 1.0;
+    quarter_of_8s.violation_time_s = 2.0;
+    quarter_of_4s.closeness = quarter_of_8s.closeness = 0.25;
+    EXPECT_EQ(quarter_of_4s.value(), quarter_of_8s.value());
+    EXPECT_NE(quarter_of_4s.search_key(), quarter_of_8s.search_key());
+    EXPECT_EQ(early.search_key(), score_goal({meets_a, briefly_early}, radii, goal, goal_order(goal)).search_key());
+    EXPECT_NE(early.search_key(), late.search_key());
 }
 
 TEST(PathIndex, OrderedQueriesCountAlongTheOrder) {

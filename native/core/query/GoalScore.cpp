@@ -232,6 +232,12 @@ void score_orientation_miss(const std::vector<PathView>& paths, const BodyOrient
 
 }  // namespace
 
+std::pair<long long, long long> GoalScore::search_key() const {
+    const long long violated = std::isfinite(violation_time_s) ? std::llround(violation_time_s * 1000)
+                                                               : std::numeric_limits<long long>::max();
+    return {std::llround(value() * 1000), violated};
+}
+
 std::vector<size_t> goal_order(const std::vector<QueryBox>& boxes) {
     const size_t n = boxes.size();
     for (size_t k = 0; k < n; ++k)
@@ -333,6 +339,17 @@ GoalScore score_goal(const std::vector<PathView>& paths, const std::vector<doubl
                                : box.orientation    ? (box.window.empty() ? kInfinity : box.window.hi_s)
                                                     : score.met_time_s[k];
         if (decided < score.violation_time_s) ++score.parts_before_violation;
+    }
+    if (std::isfinite(score.violation_time_s)) {
+        // Past the violation nothing counts, so how near it came to a part says nothing either:
+        // what a broken world has is the time it stayed clean, and a child that breaks later
+        // has kept more of the goal's way (the staircase's sampled worlds mostly poke an arm out
+        // within 1.5 s of 40; the share of the window spent outside told them apart by a few
+        // frames and kept the search refining them).
+        double horizon = 0;
+        for (const PathView& path : paths)
+            if (path.point_count() > 0) horizon = std::max(horizon, path.end_time_s());
+        score.closeness = horizon > 0 ? std::clamp(score.violation_time_s / horizon, 0.0, kMaxCloseness) : 0.0;
     }
     return score;
 }

@@ -5,6 +5,7 @@
 // search both use this.
 #include <cstdint>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "common/Math.h"
@@ -36,7 +37,9 @@ struct GoalScore {
     /// view_relative_distance of its bodies' paths within its window; a negative box the share of
     /// its window that no body spends inside; a positive orientation part 1 / (1 + e), e the
     /// worst excess of 1 - cos(angle) over its tolerance's, in tolerances; a negative one the
-    /// share of its window no body spends within. 0 when every part is met.
+    /// share of its window no body spends within. 0 when every part is met. For a world that
+    /// broke a negative part (violation_time_s finite), instead how late it broke: that time as a
+    /// share of its paths' length.
     double closeness = 0;
     /// Where the first unmet box went wrong (seconds): for a positive box the first moment the
     /// nearest body was already about as near (within 5% + 0.02 box sizes) as it came in the
@@ -72,6 +75,11 @@ struct GoalScore {
     /// next part. A tumble that goes all the way down after an arm poked out at the top counts no
     /// more than what it did before poking out.
     double value() const { return parts_before_violation + closeness; }
+
+    /// What tells two worlds apart for a search: the value to a thousandth of a part, and when
+    /// the first negative part was entered, to a millisecond. Worlds with the same key are for
+    /// the goal the same world; refining both would repeat work.
+    std::pair<long long, long long> search_key() const;
 };
 
 /// Scores one world given its body paths (one PathView per scene body, empty for bodies it lacks)

@@ -42,14 +42,6 @@ BodyOrientations orientations_at_path_points(const StoredWorld& w, const std::ve
     return out;
 }
 
-// What tells two worlds apart for the goal: the value to a thousandth of a part, and when the
-// first negative part was entered, to a millisecond.
-std::pair<long long, long long> same_for_goal(const GoalScore& score) {
-    const long long violated = std::isfinite(score.violation_time_s) ? std::llround(score.violation_time_s * 1000)
-                                                                     : std::numeric_limits<long long>::max();
-    return {std::llround(score.value() * 1000), violated};
-}
-
 }  // namespace
 
 ScoredWorlds::ScoredWorlds(LibraryReader& reader, const Scene& scene, const std::vector<QueryBox>& boxes, int threads)
@@ -85,7 +77,7 @@ void ScoredWorlds::take_new_worlds() {
         // A world that gets as far as one already scored (to a thousandth of a box), and first
         // enters a negative part at the same moment, is for the goal the same world: refining
         // both would repeat work.
-        else if (!seen_values_.insert(same_for_goal(score)).second) spent_.insert(w);
+        else if (!seen_values_.insert(score.search_key()).second) spent_.insert(w);
         if (stored(w).lineage.empty()) {
             ++sampled_;
             if (score.first_unmet < 0) ++sampled_found_;
