@@ -110,8 +110,13 @@ void bind_query(py::module_& m) {
                                "per box")
         .def_readonly("met_time_s", &GoalScore::met_time_s)
         .def_readonly("first_unmet", &GoalScore::first_unmet, "-1: every box is met")
-        .def_readonly("closeness", &GoalScore::closeness, "to the first unmet box, in [0, 1)")
-        .def_property_readonly("value", &GoalScore::value, "boxes_met + closeness")
+        .def_readonly("closeness", &GoalScore::closeness,
+                      "to the first unmet box, in [0, 1); for a world that broke a negative part, how late it broke")
+        .def_readonly("violation_time_s", &GoalScore::violation_time_s,
+                      "when it first entered a negative part it misses; inf if none")
+        .def_readonly("parts_before_violation", &GoalScore::parts_before_violation,
+                      "parts met before that moment (boxes_met when there is none)")
+        .def_property_readonly("value", &GoalScore::value, "parts_before_violation + closeness: what a search ranks by")
         .def_readonly("failure_time_s", &GoalScore::failure_time_s)
         .def_readonly("failing_bodies", &GoalScore::failing_bodies);
 
