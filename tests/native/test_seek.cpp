@@ -303,6 +303,37 @@ TEST_F(Seek, AFamilyWhoseRefinementsStopMeetingMorePartsGivesWayToAnother) {
     EXPECT_GE(families_set_aside, 2u) << "the worlds an allowance saves go to other families";
 }
 
+TEST_F(Seek, AFamilyWhoseBestWorldBrokeANegativePartGivesWayToAFreshBatchSoon) {
+    // Box0 must stay above 0.3 m (a negative box seen from above whose depth ends there), which
+    // every world breaks as Box0 lands, at its own moment; and Box1 must reach a corner beyond
+    // the walls, which none does. Every family's best world is broken, so after 64 worlds without
+    // a gain the family gives its place up and a fresh batch is sampled, though the allowance for
+    // families that stop paying (1,024 worlds) is far off.
+    const std::string file = copy_of_start("broken.mwb");
+    std::string low = box_json(R"(["Box0"])", true, "null", "[0, 0, 400, 400]");
+    low.replace(low.find("0,0,1,-20"), 9, "0,0,1,-0.3");
+    low.replace(low.find("[2.0, 3.0]"), 10, "null");
+    SeekRequest r = request(2);
+    r.boxes = goal_from_json(goal_json({box_json(R"(["Box1"])", false, "null", "[396, 396, 400, 400]"), low}), scene_);
+    r.beam_width = 1;
+    r.children_per_branch = 8;
+    r.budget_worlds = 400;
+    ASSERT_EQ(r.family_stall_worlds, 1024u);
+    EXPECT_FALSE(seek_goal(file, r).reached);
+    std::map<uint64_t, uint64_t> refined_per_family;
+    uint64_t sampled = 0;
+    const LibraryReader reader(file);
+    for (const StoredWorld& w : reader.worlds()) {
+        if (!w.lineage.empty()) ++refined_per_family[w.root_world];
+        else if (w.world_index >= 6) ++sampled;
+    }
+    uint64_t most = 0;
+    for (const auto& [family, worlds] : refined_per_family) most = std::max(most, worlds);
+    EXPECT_LE(most, 64u + 8u) << "a broken family kept its place";
+    EXPECT_GE(refined_per_family.size(), 3u);
+    EXPECT_GE(sampled, 32u * (refined_per_family.size() - 1)) << "one fresh batch per family given up";
+}
+
 TEST_F(Seek, TheOddsOfAFreshWorldCountAnOrderedPartOnlyAmongWorldsMeetingThePartBefore) {
     // Of the 6 sampled worlds none has Box1 in the far corner (beyond the walls), and all have it
     // somewhere on the floor. Each part's share is smoothed, (met + 0.5) / (counted + 1).
