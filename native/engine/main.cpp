@@ -16,6 +16,9 @@
 #include <omp.h>
 #ifndef _WIN32
 #include <unistd.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 #endif
 
 #include "EngineEvents.h"
@@ -422,7 +425,26 @@ int run_reporting_failures(const std::vector<std::string>& args, EngineEvents& e
 }  // namespace
 }  // namespace mwb
 
+namespace {
+
+// Every world the engine makes holds its whole motion (every body, every frame: 30 MB for the
+// staircase's 110 bodies over 40 s at 120 Hz) in a few arrays, made and dropped per world. glibc
+// serves blocks that large with fresh mappings, each page faulted in and zeroed by the kernel,
+// then unmapped: on a staircase search that was a seventh of the time. Kept in the heap, the
+// pages are reused (a 96-world search: 54.2 s to 46.0 s in one process, 30.7 s to 28.2 s on two
+// workers; the worlds are the same).
+void keep_large_blocks_in_heap() {
+#ifdef __GLIBC__
+    constexpr int kLargeBlockBytes = 1 << 30;
+    mallopt(M_MMAP_THRESHOLD, kLargeBlockBytes);
+    mallopt(M_TRIM_THRESHOLD, kLargeBlockBytes);
+#endif
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+    keep_large_blocks_in_heap();
     const std::vector<std::string> args(argv + 1, argv + argc);
     auto given = [&](const char* flag) { return std::find(args.begin(), args.end(), flag) != args.end(); };
     // A worker's standard output carries its records to the supervisor, never events.

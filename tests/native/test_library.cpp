@@ -19,6 +19,7 @@
 #include "library/PolylineGather.h"
 #include "library/RunSettings.h"
 #include "library/WorldDecoding.h"
+#include "library/WorldRecordEncoder.h"
 #include "refine/StoredWorldRefinement.h"
 #include "sampler/Sampler.h"
 #include "scene/SceneJson.h"
@@ -125,6 +126,45 @@ TEST_F(Library, EveryBundledSceneDecodesWithinTheBounds) {
             }
         }
     }
+}
+
+TEST_F(Library, ABodyThatStaysStillInOneWorldIsStoredAsItMovesInTheNext) {
+    // Still bodies' tracks are encoded once per process (the scenery is the same in every world);
+    // a world where the same body is elsewhere, or moves in its last frame only, must not get them.
+    const Scene scene = fixtures::pile(3, 48);
+    const WorldResult simulated = simulate_world(CompiledScene(scene, SimulationParameters{}), 9, 0);
+    const size_t frames = simulated.frame_count;
+    ASSERT_GT(frames, 10u);
+    const auto with_body0 = [&](double z, double last_z) {
+        WorldResult w = simulated;
+        for (size_t f = 0; f < frames; ++f) {
+            const double at[3] = {1.0, 2.0, f + 1 == frames ? last_z : z};
+            std::copy(at, at + 3, &w.positions_m[f * 3]);
+            const double identity[4] = {1, 0, 0, 0};
+            std::copy(identity, identity + 4, &w.orientations[f * 4]);
+        }
+        return w;
+    };
+    const CodecBounds bounds;
+    const auto decoded_z = [&](const WorldResult& w, std::vector<uint8_t>* bytes = nullptr) {
+        const std::vector<uint8_t> record = encode_world_record(w, bounds, scene.world.gravity);
+        if (bytes) *bytes = record;
+        const std::vector<double> p =
+            decode_world_positions(decode_world_record(record.data(), record.size(), kWorldRecordVersion, "test"));
+        return std::make_pair(p[2], p[(frames - 1) * 3 + 2]);  // body 0, first and last frame
+    };
+    std::vector<uint8_t> first, again;
+    const auto still = decoded_z(with_body0(3.0, 3.0), &first);
+    EXPECT_NEAR(still.first, 3.0, bounds.position_error_max_m);
+    EXPECT_NEAR(still.second, 3.0, bounds.position_error_max_m);
+    const auto moved_last = decoded_z(with_body0(3.0, 3.5));
+    EXPECT_NEAR(moved_last.first, 3.0, bounds.position_error_max_m);
+    EXPECT_NEAR(moved_last.second, 3.5, bounds.position_error_max_m) << "a body that moved was stored as still";
+    const auto elsewhere = decoded_z(with_body0(4.0, 4.0));
+    EXPECT_NEAR(elsewhere.first, 4.0, bounds.position_error_max_m) << "a still body elsewhere got another's track";
+    EXPECT_NEAR(elsewhere.second, 4.0, bounds.position_error_max_m);
+    decoded_z(with_body0(3.0, 3.0), &again);
+    EXPECT_EQ(again, first) << "the same world encodes to the same bytes";
 }
 
 TEST_F(Library, PolylineIsDerivedOnLoadFromTheDecodedPath) {

@@ -62,13 +62,15 @@ std::optional<SegmentFit> check_candidate(const PositionInput& input, uint32_t s
     const Vec3 quadratic = gravity ? input.quadratic_m : Vec3{0, 0, 0};
     // A zero bulge decodes exactly as a straight segment, which is cheaper to write.
     SegmentFit fit{length, false, gravity, !is_zero(bulge), steps, bulge, {}, 0};
-    for (uint32_t j = 1; j <= length; ++j) {
-        const Vec3 decoded = position_on_segment(start_m, quadratic, steps, bulge, input.step_m, length, j);
-        const double error = norm(sub(decoded, input_frame(input, start_frame + j)));
-        if (!(error <= input.tolerance_m)) return std::nullopt;
-        fit.end_m = decoded;
-        fit.end_error = error;
-    }
+    const auto error_at = [&](uint32_t j, Vec3& decoded) {
+        decoded = position_on_segment(start_m, quadratic, steps, bulge, input.step_m, length, j);
+        return norm(sub(decoded, input_frame(input, start_frame + j)));
+    };
+    fit.end_error = error_at(length, fit.end_m);
+    if (!(fit.end_error <= input.tolerance_m)) return std::nullopt;
+    Vec3 decoded;
+    if (!inner_frames_within(length, [&](uint32_t j) { return error_at(j, decoded) <= input.tolerance_m; }))
+        return std::nullopt;
     return fit;
 }
 

@@ -119,11 +119,13 @@ std::optional<SegmentFit> check_candidate(const RotationInput& input, const Angl
                                           const SegmentSteps& steps, const SegmentSteps& bulge) {
     // A zero bulge decodes exactly as a straight segment, which is cheaper to write.
     SegmentFit fit{length, false, !is_zero(bulge), steps, bulge, {}, 0};
-    for (uint32_t j = 1; j <= length; ++j) {
-        const Quat decoded = rotation_on_segment(start, steps, bulge, input.step_rad, length, j);
-        if (!angle_test.within(decoded, input.frames[start_frame + j])) return std::nullopt;
-        fit.end = decoded;
-    }
+    fit.end = rotation_on_segment(start, steps, bulge, input.step_rad, length, length);
+    if (!angle_test.within(fit.end, input.frames[start_frame + length])) return std::nullopt;
+    if (!inner_frames_within(length, [&](uint32_t j) {
+            return angle_test.within(rotation_on_segment(start, steps, bulge, input.step_rad, length, j),
+                                     input.frames[start_frame + j]);
+        }))
+        return std::nullopt;
     fit.end_error = rotation_angle_between(fit.end, input.frames[start_frame + length]);
     return fit;
 }

@@ -59,6 +59,19 @@ auto longest_greedy_fit(uint32_t max_length, FitLength fit_length, uint32_t at_l
     return best;
 }
 
+/// Whether `within(j)` holds for every frame j in 1..length-1 of a candidate segment, whose last
+/// frame the caller checked first (it gives the fit's end). The middle is visited first, then the
+/// rest in order: most candidates the segment search tries are too long and fail at the end or
+/// near the middle, so their check stops early; one that passes visits every frame either way.
+template <class Within>
+bool inner_frames_within(uint32_t length, Within within) {
+    const uint32_t middle = length / 2;
+    if (middle >= 1 && !within(middle)) return false;
+    for (uint32_t j = 1; j < length; ++j)
+        if (j != middle && !within(j)) return false;
+    return true;
+}
+
 /// Least-squares sums of a segment's offsets r_j from its start (j = 1..L) against the basis of
 /// CodecFormat.h: u = j / L and b = u (1 - u).
 struct SegmentSums {
