@@ -4,7 +4,7 @@ first batches, so that one lucky (or unlucky) start does not decide the figure.
     blender -b blend_examples/NAME/NAME.blend --python tests/bench/bench_seek.py [-- BUDGET_WORLDS [BUDGET_S]]
 
 Exports the scene; then for each of MWB_SEEK_BATCHES first batches (default 5: base seeds 0 to 4,
-MWB_SEEK_FIRST_BATCH worlds each, default 32) samples the batch as a user would, counts the worlds
+MWB_SEEK_FIRST_BATCH worlds each, default 32; MWB_SEEK_SEEDS=2,3 runs only those) samples the batch as a user would, counts the worlds
 of it that already meet the goal (the browser's own query), and runs `mwb-engine seek` with the
 example's goal boxes (drawn in the scene camera's view, or in a top view for footprints) until
 one world meets them all or the budget is spent. The world it reports is checked again with the
@@ -41,6 +41,7 @@ from many_worlds.export import export_and_validate  # noqa: E402
 
 FIRST_BATCH = int(os.environ.get("MWB_SEEK_FIRST_BATCH", 32))
 BATCHES = int(os.environ.get("MWB_SEEK_BATCHES", 5))
+SEEDS = [int(s) for s in os.environ["MWB_SEEK_SEEDS"].split(",")] if os.environ.get("MWB_SEEK_SEEDS") else range(BATCHES)
 ARGS = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 BUDGET_WORLDS = int(ARGS[0]) if ARGS else 20000
 BUDGET_S = float(ARGS[1]) if len(ARGS) > 1 else 600.0
@@ -356,7 +357,7 @@ def main():
             # Only the scene and the goal, for a closer look at them (MWB_SEEK_KEEP).
             print(f"{name}: scene and goal in {folder}")
             return
-        for seed in range(BATCHES):
+        for seed in SEEDS:
             run = search_from(seed, scene_json, goal_path, goal, folder)
             runs.append(run)
             print(f"{name} seed {seed}: {run['first_met']} of the first {FIRST_BATCH} worlds meet the goal; "

@@ -134,6 +134,35 @@ TEST(BranchPlanner, APartWhoseChildrenFailGivesWayToTheNextOne) {
     EXPECT_EQ(third.bodies, (std::vector<uint32_t>{3}));
 }
 
+TEST(BranchPlanner, ABrokenWorldIsBranchedOnlyBeforeItBroke) {
+    // C also has to keep out of a box (a fourth, negative part) and entered it at 3 s: nothing it
+    // or B does after that counts, so B's points after its touch of A (5 and 5.5 s), which
+    // the world unbroken is branched at first, and C's grid after 3 s are no use.
+    ThreeBoxes s;
+    QueryBox keep_out;
+    keep_out.bodies = {3};
+    keep_out.negative = true;
+    s.parts.push_back(keep_out);
+    s.score.met.push_back(0);
+    s.score.met_time_s.push_back(0);
+    s.score.misses.push_back({3, 0.1, 3.0, 0.0, {3}});
+    s.score.violation_time_s = 3.0;
+    BranchPlanner planner(s.scene, s.parts, 7);
+    std::vector<Branch> chosen;
+    Branch b;
+    while (planner.choose(0, s.world, s.score, b)) {
+        chosen.push_back(b);
+        ASSERT_LT(chosen.size(), 50u);
+    }
+    ASSERT_FALSE(chosen.empty()) << "a broken world can still be mended before it broke";
+    std::set<uint32_t> bodies;
+    for (const Branch& p : chosen) {
+        EXPECT_LT(seconds(p), 3.0) << "branched after the world broke, for body " << p.bodies[0];
+        bodies.insert(p.bodies.begin(), p.bodies.end());
+    }
+    EXPECT_TRUE(bodies.count(3)) << "C, which broke it, is refined before it did";
+}
+
 // C alone misses its part (A meets its own); C hits the floor every 0.25 s until 6 s, when it
 // went wrong: points all over its span. Each of `worlds` worlds (the same record) is refined
 // once, and its children meet C's part only when it branched in the first quarter of that span
