@@ -9,6 +9,7 @@
 
 #include "SceneFixtures.h"
 #include "TestFolder.h"
+#include "codec/CodecError.h"
 #include "common/BuildInfo.h"
 #include "common/QuantizedPolyline.h"
 #include "library/ByteIO.h"
@@ -234,6 +235,26 @@ TEST_F(Library, RandomAccessPoseEqualsTheFullDecode) {
             EXPECT_EQ(pose.location, (Vec3{p[0], p[1], p[2]}));
         }
     }
+}
+
+// A goal's orientation parts read a body's rotation at every path point: one parse of the track
+// must give what the full decode gives, frame for frame.
+TEST_F(Library, RotationsAtChosenFramesEqualTheFullDecode) {
+    const std::string file = path("ramp_rotations.mwb");
+    sample_into(file, fixtures::mesh_ramp_with_joints(), 0, 1);
+    const LibraryReader reader(file);
+    const StoredWorld& world = reader.worlds().front();
+    const std::vector<double> orientations = decode_world_orientations(world);
+    const std::vector<uint32_t> frames = {world.frame_count - 1, 0u, 1u, world.frame_count / 2, 1u};
+    for (size_t track : {size_t{6}, world.tracks.size() - 1}) {
+        const std::vector<Quat> rotations = decode_rotations(world, track, frames);
+        ASSERT_EQ(rotations.size(), frames.size());
+        for (size_t k = 0; k < frames.size(); ++k) {
+            const double* q = &orientations[(track * world.frame_count + frames[k]) * 4];
+            EXPECT_EQ(rotations[k], (Quat{q[0], q[1], q[2], q[3]})) << "track " << track << ", frame " << frames[k];
+        }
+    }
+    EXPECT_THROW(decode_rotations(world, 6, {0u, world.frame_count}), CodecError);
 }
 
 TEST_F(Library, RejectedWorldsAreCountedWithTheirReasonAndNeverStoredAsWorlds) {

@@ -47,6 +47,17 @@ std::vector<double> decode_all(const StoredWorld& world, size_t body_count, int 
     return out;
 }
 
+const StoredTrack& present_track(const StoredWorld& world, size_t track) {
+    const StoredTrack& t = world.tracks.at(track);
+    if (!t.present) throw CodecError("body " + std::to_string(t.body) + " is not in world " + std::to_string(world.world_index));
+    return t;
+}
+
+void check_frame(const StoredWorld& world, uint32_t frame) {
+    if (frame >= world.frame_count)
+        throw CodecError("frame " + std::to_string(frame) + " beyond the world's " + std::to_string(world.frame_count));
+}
+
 }  // namespace
 
 std::vector<double> decode_world_positions(const StoredWorld& world, size_t body_count) {
@@ -83,16 +94,27 @@ void derive_polyline(StoredWorld& world, double rate_hz) {
 }
 
 Transform decode_pose(const StoredWorld& world, size_t track, uint32_t frame) {
-    const StoredTrack& t = world.tracks.at(track);
-    if (!t.present) throw CodecError("body " + std::to_string(t.body) + " is not in world " + std::to_string(world.world_index));
-    if (frame >= world.frame_count)
-        throw CodecError("frame " + std::to_string(frame) + " beyond the world's " + std::to_string(world.frame_count));
+    const StoredTrack& t = present_track(world, track);
+    check_frame(world, frame);
     const PositionTrackDecoder position(t.position.data(), t.position.size());
     const RotationTrackDecoder rotation(t.rotation.data(), t.rotation.size());
     if (position.frame_count() == 0 || rotation.frame_count() == 0) throw CodecError("empty track");
     // Inherited tracks hold their last frame past their end.
     return {position.sample(std::min(frame, position.frame_count() - 1)),
             rotation.sample(std::min(frame, rotation.frame_count() - 1))};
+}
+
+std::vector<Quat> decode_rotations(const StoredWorld& world, size_t track, const std::vector<uint32_t>& frames) {
+    const StoredTrack& t = present_track(world, track);
+    const RotationTrackDecoder rotation(t.rotation.data(), t.rotation.size());
+    if (rotation.frame_count() == 0) throw CodecError("empty track");
+    std::vector<Quat> out;
+    out.reserve(frames.size());
+    for (uint32_t frame : frames) {
+        check_frame(world, frame);
+        out.push_back(rotation.sample(std::min(frame, rotation.frame_count() - 1)));
+    }
+    return out;
 }
 
 }  // namespace mwb

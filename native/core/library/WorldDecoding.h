@@ -18,5 +18,8 @@ std::vector<double> decode_world_orientations(const StoredWorld& world, size_t b
 void derive_polyline(StoredWorld& world, double rate_hz);
 /// One track at one frame (frame counted from the world's first_frame); CodecError if absent.
 Transform decode_pose(const StoredWorld& world, size_t track, uint32_t frame);
+/// One track's orientations at `frames` (each as in decode_pose, and bit-identical to its), the
+/// track parsed once: sampling a path's points through decode_pose parses it once a point.
+std::vector<Quat> decode_rotations(const StoredWorld& world, size_t track, const std::vector<uint32_t>& frames);
 
 }  // namespace mwb

@@ -29,16 +29,12 @@ std::vector<uint32_t> oriented_bodies(const std::vector<QueryBox>& boxes) {
 // Rotations of `bodies` at the world's path points (the frames its polyline samples), decoded
 // from the record.
 BodyOrientations orientations_at_path_points(const StoredWorld& w, const std::vector<uint32_t>& bodies) {
+    std::vector<uint32_t> frames;
+    for (uint32_t k = 0; k < w.polyline_points; ++k)
+        frames.push_back(static_cast<uint32_t>(std::min<uint64_t>(uint64_t{k} * w.polyline_stride, w.frame_count - 1)));
     BodyOrientations out(w.tracks.size());
-    for (uint32_t body : bodies) {
-        if (body >= w.tracks.size() || !w.tracks[body].present) continue;
-        std::vector<Quat>& rotations = out[body];
-        rotations.reserve(w.polyline_points);
-        for (uint32_t k = 0; k < w.polyline_points; ++k) {
-            const uint64_t frame = std::min<uint64_t>(uint64_t{k} * w.polyline_stride, w.frame_count - 1);
-            rotations.push_back(decode_pose(w, body, static_cast<uint32_t>(frame)).rotation);
-        }
-    }
+    for (uint32_t body : bodies)
+        if (body < w.tracks.size() && w.tracks[body].present) out[body] = decode_rotations(w, body, frames);
     return out;
 }
 

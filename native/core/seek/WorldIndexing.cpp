@@ -23,7 +23,7 @@ IndexedWorldInput indexed_world_input(const LibraryReader& reader, const StoredW
             continue;
         }
         in.borrowed.push_back({w.polyline.data() + t * per_path, w.polyline_points});
-        in.final_orientations.push_back(decode_pose(w, t, w.frame_count - 1).rotation);
+        in.final_orientations.push_back(decode_rotations(w, t, {w.frame_count - 1}).front());
     }
     for (const MetricValues& m : w.metrics) {
         in.metric_names.push_back(m.name);
