@@ -28,6 +28,13 @@ constexpr double kMeaningfulGain = 0.02;
 // the descendants of a single lucky start (on the quick-start goal, from the same 8 worlds and
 // 6 seeds, the most it took fell from 1,000 worlds to 424, and the staircase got as far).
 constexpr uint32_t kBeamPerFamily = 1;
+// A family more parts behind the leading one than this gives its own beam place to the leading
+// families' next best worlds. On the staircase (21 parts; base seeds 0 and 1, 10 minutes each) the
+// two families 10 parts behind made 458 worlds for 2 parts between them, while the leader, 20 of 21
+// parts met 4 minutes in, made 177 after it; from base seed 0 two families 5 and 6 parts behind
+// made 554 worlds for 3 parts. Families within reach keep their places, so the beam still holds
+// starts as good as the leader's, but a start half the goal behind no longer slows the best one.
+constexpr double kBeamReachParts = 3;
 // The worlds a family whose best world broke a negative part may make without meeting more parts
 // before it gives its place up to a fresh batch: eight refinements. Such a start is mended only
 // by branching before the break and re-running all that came after, which a fresh world does for
@@ -67,7 +74,7 @@ public:
                 report();
                 continue;
             }
-            std::vector<uint64_t> beam = worlds_->choose_beam(request_.beam_width, kBeamPerFamily);
+            std::vector<uint64_t> beam = worlds_->choose_beam(request_.beam_width, kBeamPerFamily, kBeamReachParts);
             if (beam.empty()) {
                 // Every good world's branch points are spent: start over from new sampled worlds.
                 sample_batch();

@@ -3,10 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 
 #include "geometry/ShapeBounds.h"
 #include "library/WorldDecoding.h"
+#include "seek/BeamChoice.h"
 #include "seek/WorldIndexing.h"
 
 namespace mwb {
@@ -100,22 +100,12 @@ uint64_t ScoredWorlds::family_of(uint64_t world) const {
     return w.lineage.empty() ? w.world_index : w.root_world;
 }
 
-std::vector<uint64_t> ScoredWorlds::choose_beam(uint32_t width, uint32_t per_family) const {
-    std::vector<uint64_t> beam;
-    const auto open = [&](uint64_t world) {
-        return !found_.count(world) && !spent_.count(world) && !set_aside_.count(family_of(world));
-    };
-    std::map<uint64_t, uint32_t> taken;
-    for (const auto& [negative_value, world] : ranking_) {
-        if (beam.size() >= width) break;
-        if (!open(world) || taken[family_of(world)]++ >= per_family) continue;
-        beam.push_back(world);
-    }
-    for (const auto& [negative_value, world] : ranking_) {
-        if (beam.size() >= width) break;
-        if (open(world) && std::find(beam.begin(), beam.end(), world) == beam.end()) beam.push_back(world);
-    }
-    return beam;
+std::vector<uint64_t> ScoredWorlds::choose_beam(uint32_t width, uint32_t per_family, double reach_parts) const {
+    std::vector<BeamCandidate> open;
+    for (const auto& [negative_value, world] : ranking_)
+        if (!found_.count(world) && !spent_.count(world) && !set_aside_.count(family_of(world)))
+            open.push_back({world, family_of(world), -negative_value});
+    return mwb::choose_beam(open, width, per_family, reach_parts);
 }
 
 }  // namespace mwb

@@ -45,10 +45,9 @@ public:
     /// A family none of whose worlds goes into the beam any more (its refinements stopped paying).
     void set_aside(uint64_t family) { set_aside_.insert(family); }
 
-    /// The best worlds not yet met or spent nor of a family set aside, best first (ties: lower
-    /// index), at most `per_family` from one family, then the best of the rest if the beam is not
-    /// full; at most `width`.
-    std::vector<uint64_t> choose_beam(uint32_t width, uint32_t per_family) const;
+    /// The beam (see BeamChoice.h) among the worlds not yet met or spent nor of a family set
+    /// aside, best first (ties: lower index).
+    std::vector<uint64_t> choose_beam(uint32_t width, uint32_t per_family, double reach_parts) const;
 
 private:
     LibraryReader& reader_;
