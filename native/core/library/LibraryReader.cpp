@@ -15,6 +15,7 @@
 #include "scene/SceneJson.h"
 #include "library/WorldDecoding.h"
 #include "codec/CodecError.h"
+#include "common/QuantizedPolyline.h"
 
 namespace mwb {
 namespace {
@@ -67,6 +68,10 @@ RunHeader parse_run_header_block(const std::vector<uint8_t>& bytes, const std::s
 struct LibraryReader::DecodedWorld {
     std::optional<StoredWorld> world;
     std::exception_ptr error;
+    /// A refined world's polyline blocks for the tracks it stores itself, by body (empty for the
+    /// others), and the error deriving them: its parent's tracks are only there once it is accepted.
+    std::vector<std::vector<uint16_t>> own_blocks;
+    std::exception_ptr polyline_error;
 };
 
 LibraryReader::LibraryReader(std::string path, const ReaderOptions& options) : path_(std::move(path)), options_(options) {
@@ -149,11 +154,30 @@ LibraryReader::DecodedWorld LibraryReader::decode_world(const FramedRecord& reco
         if (out.world->parent_world < 0) {
             complete_tracks(*out.world, where);
             derive_world_polyline(*out.world);
+        } else {
+            derive_own_blocks(out);
         }
     } catch (...) {
         out.error = std::current_exception();
     }
     return out;
+}
+
+// The blocks of the tracks a refined world stores (in a search, all of its re-simulated bodies'):
+// most of its polyline, and derived here on all cores rather than one by one as it is accepted.
+void LibraryReader::derive_own_blocks(DecodedWorld& decoded) const {
+    if (options_.polyline_hz <= 0) return;
+    const StoredWorld& world = *decoded.world;
+    try {
+        const PolylineLayout layout = polyline_layout(world, options_.polyline_hz);
+        for (const StoredTrack& track : world.tracks) {
+            if (!track.present) continue;
+            if (track.body >= decoded.own_blocks.size()) decoded.own_blocks.resize(size_t{track.body} + 1);
+            decoded.own_blocks[track.body] = track_polyline(track, world.frame_count, layout);
+        }
+    } catch (...) {
+        decoded.polyline_error = std::current_exception();
+    }
 }
 
 void LibraryReader::accept_record(const FramedRecord& record, DecodedWorld&& decoded) {
@@ -198,7 +222,22 @@ void LibraryReader::accept_world(DecodedWorld&& decoded, const std::string& wher
     if (decoded.error) std::rethrow_exception(decoded.error);
     if (world.parent_world >= 0) {
         complete_tracks(world, where);
-        derive_world_polyline(world);
+        if (decoded.polyline_error) std::rethrow_exception(decoded.polyline_error);
+        if (options_.polyline_hz > 0) {
+            // Unchanged tracks of a parent as long have its blocks; the rest were derived already.
+            std::vector<std::vector<uint16_t>> known = std::move(decoded.own_blocks);
+            known.resize(world.tracks.size());
+            const StoredWorld& parent = worlds_[positions_.at(static_cast<uint64_t>(world.parent_world))];
+            const PolylineLayout layout = polyline_layout(world, options_.polyline_hz);
+            const size_t words = quantized::block_words(layout.points);
+            const bool same_layout = parent.frame_count == world.frame_count &&
+                                     parent.polyline_points == layout.points && parent.polyline_stride == layout.stride;
+            for (size_t t = 0; t < world.tracks.size(); ++t)
+                if (known[t].empty() && same_layout && world.tracks[t].inherited && (t + 1) * words <= parent.polyline.size())
+                    known[t].assign(parent.polyline.begin() + static_cast<std::ptrdiff_t>(t * words),
+                                    parent.polyline.begin() + static_cast<std::ptrdiff_t>((t + 1) * words));
+            derive_polyline(world, options_.polyline_hz, known);
+        }
     }
     positions_[world.world_index] = worlds_.size();
     worlds_.push_back(std::move(world));

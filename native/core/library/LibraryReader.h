@@ -79,6 +79,7 @@ private:
     /// The part of reading a world record that needs no other record: decoding it, and for a
     /// sampled world (no parent) completing its tracks and deriving its polyline.
     DecodedWorld decode_world(const FramedRecord& record) const;
+    void derive_own_blocks(DecodedWorld& decoded) const;
     void accept_record(const FramedRecord& record, DecodedWorld&& decoded);
     void accept_world(DecodedWorld&& decoded, const std::string& where);
     void derive_world_polyline(StoredWorld& world) const;

@@ -68,29 +68,48 @@ std::vector<double> decode_world_orientations(const StoredWorld& world, size_t b
     return decode_all<RotationTrackDecoder>(world, body_count, 4, &StoredTrack::rotation);
 }
 
-void derive_polyline(StoredWorld& world, double rate_hz) {
+PolylineLayout polyline_layout(const StoredWorld& world, double rate_hz) {
+    PolylineLayout layout;
     const uint32_t frames = world.frame_count;
-    const uint32_t stride = std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(world.record_hz / rate_hz)));
-    const uint32_t points = frames == 0 ? 0 : (frames - 1 + stride - 1) / stride + 1;
-    const std::vector<double> positions = decode_world_positions(world);
-    const size_t words = quantized::block_words(points);
-    world.polyline.assign(world.tracks.size() * words, 0);
-    for (size_t t = 0; t < world.tracks.size(); ++t) {
-        uint16_t* block = world.polyline.data() + t * words;
-        if (!world.tracks[t].present) {
-            quantized::encode_absent(points, block);
-            continue;
-        }
-        quantized::encode(
-            points,
-            [&](uint32_t p, int axis) {
-                const size_t frame = std::min<size_t>(size_t{p} * stride, frames - 1);
-                return positions[(t * frames + frame) * 3 + static_cast<size_t>(axis)];
-            },
-            block);
+    layout.stride = std::max<uint32_t>(1, static_cast<uint32_t>(std::lround(world.record_hz / rate_hz)));
+    layout.points = frames == 0 ? 0 : (frames - 1 + layout.stride - 1) / layout.stride + 1;
+    return layout;
+}
+
+std::vector<uint16_t> track_polyline(const StoredTrack& track, uint32_t world_frames, const PolylineLayout& layout) {
+    std::vector<uint16_t> block(quantized::block_words(layout.points));
+    if (!track.present) {
+        quantized::encode_absent(layout.points, block.data());
+        return block;
     }
-    world.polyline_points = points;
-    world.polyline_stride = stride;
+    // One track at a time: its frames are a few tens of kilobytes, where the whole world's were
+    // a quarter of a megabyte (the staircase's 11 bodies over 960 frames) allocated per world.
+    std::vector<double> positions(size_t{world_frames} * 3);
+    decode_track<PositionTrackDecoder>(track.position, track, world_frames, 3, positions.data());
+    quantized::encode(
+        layout.points,
+        [&](uint32_t p, int axis) {
+            const size_t frame = std::min<size_t>(size_t{p} * layout.stride, world_frames - 1);
+            return positions[frame * 3 + static_cast<size_t>(axis)];
+        },
+        block.data());
+    return block;
+}
+
+void derive_polyline(StoredWorld& world, double rate_hz, const std::vector<std::vector<uint16_t>>& known) {
+    const PolylineLayout layout = polyline_layout(world, rate_hz);
+    const size_t words = quantized::block_words(layout.points);
+    std::vector<uint16_t> polyline(world.tracks.size() * words);
+    for (size_t t = 0; t < world.tracks.size(); ++t) {
+        const bool given = t < known.size() && known[t].size() == words;
+        const std::vector<uint16_t> derived =
+            given ? std::vector<uint16_t>() : track_polyline(world.tracks[t], world.frame_count, layout);
+        const std::vector<uint16_t>& block = given ? known[t] : derived;
+        std::copy(block.begin(), block.end(), polyline.begin() + static_cast<std::ptrdiff_t>(t * words));
+    }
+    world.polyline = std::move(polyline);
+    world.polyline_points = layout.points;
+    world.polyline_stride = layout.stride;
 }
 
 Transform decode_pose(const StoredWorld& world, size_t track, uint32_t frame) {

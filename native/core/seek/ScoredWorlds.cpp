@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
+
+#include <omp.h>
 
 #include "geometry/ShapeBounds.h"
 #include "library/WorldDecoding.h"
@@ -64,11 +67,10 @@ void ScoredWorlds::take_new_worlds() {
     // In index order, not file order (which depends on which thread finished first): which of
     // two equal worlds counts is then the same on any thread count.
     std::sort(fresh.begin(), fresh.end());
-    for (uint64_t w : fresh) {
-        BodyOrientations orientations;
-        if (!oriented_bodies_.empty())
-            orientations = orientations_at_path_points(stored(w), oriented_bodies_);
-        GoalScore score = index_.score(w, boxes_, order_, &orientations);
+    std::vector<GoalScore> scores = score_worlds(fresh);
+    for (size_t n = 0; n < fresh.size(); ++n) {
+        const uint64_t w = fresh[n];
+        GoalScore& score = scores[n];
         if (score.first_unmet < 0) found_.insert(w);
         // A world that gets as far as one already scored (to a thousandth of a box), and first
         // enters a negative part at the same moment, is for the goal the same world: refining
@@ -82,6 +84,29 @@ void ScoredWorlds::take_new_worlds() {
         ranking_.insert(std::make_pair(-score.value(), w));
         scores_.emplace(w, std::move(score));
     }
+}
+
+std::vector<GoalScore> ScoredWorlds::score_worlds(const std::vector<uint64_t>& worlds) const {
+    // Each world's score needs only its own paths and rotations: on all the threads given (the
+    // staircase's 21 parts take about 11 ms a world, one refinement's 8 children 90 ms on one).
+    std::vector<GoalScore> scores(worlds.size());
+    std::vector<std::exception_ptr> errors(worlds.size());
+    const auto count = static_cast<std::ptrdiff_t>(worlds.size());
+    const int thread_count = threads_ > 0 ? threads_ : omp_get_max_threads();
+#pragma omp parallel for num_threads(thread_count) schedule(dynamic, 1)
+    for (std::ptrdiff_t k = 0; k < count; ++k) {
+        const auto n = static_cast<size_t>(k);
+        try {
+            BodyOrientations orientations;
+            if (!oriented_bodies_.empty()) orientations = orientations_at_path_points(stored(worlds[n]), oriented_bodies_);
+            scores[n] = index_.score(worlds[n], boxes_, order_, &orientations);
+        } catch (...) {
+            errors[n] = std::current_exception();
+        }
+    }
+    for (const std::exception_ptr& error : errors)
+        if (error) std::rethrow_exception(error);
+    return scores;
 }
 
 double ScoredWorlds::sampled_goal_odds() const {

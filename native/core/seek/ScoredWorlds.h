@@ -50,6 +50,9 @@ public:
     std::vector<uint64_t> choose_beam(uint32_t width, uint32_t per_family, double reach_parts) const;
 
 private:
+    // The scores of `worlds` (indexed already), in their order; on threads_ threads.
+    std::vector<GoalScore> score_worlds(const std::vector<uint64_t>& worlds) const;
+
     LibraryReader& reader_;
     const std::vector<QueryBox>& boxes_;
     std::vector<size_t> order_;
