@@ -131,7 +131,7 @@ WorldInfo world_info(const PyLibrary& l, uint64_t w) {
     info.frame_count = world.frame_count;
     info.simulated_time_s = world.simulated_time_s;
     info.impacts_perturbed = world.impacts_perturbed;
-    info.checkpoint_count = world.checkpoints.size();
+    info.checkpoint_count = checkpoint_count(world.checkpoints);
     info.root_world = world.lineage.empty() ? world.world_index : world.root_world;
     for (const RefineStep& step : world.lineage)
         info.lineage.push_back({static_cast<double>(step.branch_step) / world.step_hz, step.world_index, step.bodies,

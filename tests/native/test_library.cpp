@@ -95,8 +95,9 @@ TEST_F(Library, DecodedMotionStaysWithinTheCodecBoundsForEveryBodyAndFrame) {
             // Everything else round-trips exactly.
             ASSERT_EQ(stored.contacts.size(), original.contacts.size());
             for (size_t k = 0; k < stored.contacts.size(); ++k) EXPECT_EQ(stored.contacts[k].time_s, original.contacts[k].time_s);
-            ASSERT_EQ(stored.checkpoints.size(), original.checkpoints.size());
-            EXPECT_EQ(stored.checkpoints.back().bodies.back().orientation, original.checkpoints.back().bodies.back().orientation);
+            const std::vector<Checkpoint> checkpoints = decode_checkpoints(stored);
+            ASSERT_EQ(checkpoints.size(), original.checkpoints.size());
+            EXPECT_EQ(checkpoints.back().bodies.back().orientation, original.checkpoints.back().bodies.back().orientation);
             EXPECT_EQ(stored.tracks.back().rest_time_s, original.rest_time_s.back());
         }
     }
@@ -187,6 +188,87 @@ TEST_F(Library, PolylineIsDerivedOnLoadFromTheDecodedPath) {
                 EXPECT_NEAR(point[k], positions[(track * world.frame_count + frame) * 3 + k],
                             header.step[k] * 0.5 + 1e-6);
         }
+    }
+}
+
+// A loaded world keeps its checkpoints deflated, as stored; they come back whole when asked for,
+// and a damaged block is an error naming the world, not a crash.
+TEST_F(Library, CheckpointsAreKeptPackedAndInflateToThoseSimulated) {
+    const std::string file = path("checkpoints.mwb");
+    const auto simulated = sample_into(file, fixtures::pile(6, 24), 0, 2);
+    const LibraryReader reader(file);
+    ASSERT_EQ(reader.worlds().size(), 2u);
+    for (const StoredWorld& stored : reader.worlds()) {
+        const WorldResult& original = simulated.at(stored.world_index);
+        const std::vector<Checkpoint> checkpoints = decode_checkpoints(stored);
+        ASSERT_GE(original.checkpoints.size(), 2u);
+        ASSERT_EQ(checkpoints.size(), original.checkpoints.size());
+        EXPECT_EQ(checkpoint_count(stored.checkpoints), original.checkpoints.size());
+        for (size_t k = 0; k < checkpoints.size(); ++k) {
+            EXPECT_EQ(checkpoints[k].step_index, original.checkpoints[k].step_index);
+            for (size_t b = 0; b < checkpoints[k].bodies.size(); ++b) {
+                EXPECT_EQ(checkpoints[k].bodies[b].position_m, original.checkpoints[k].bodies[b].position_m);
+                EXPECT_EQ(checkpoints[k].bodies[b].angular_velocity, original.checkpoints[k].bodies[b].angular_velocity);
+            }
+        }
+        StoredWorld damaged = stored;
+        for (size_t k = damaged.checkpoints.packed.size() / 2; k < damaged.checkpoints.packed.size(); ++k)
+            damaged.checkpoints.packed[k] ^= 0x5a;
+        try {
+            decode_checkpoints(damaged);
+            FAIL() << "a damaged checkpoint block must not inflate";
+        } catch (const LibraryError& error) {
+            EXPECT_NE(std::string(error.what()).find("world " + std::to_string(stored.world_index)), std::string::npos)
+                << error.what();
+        }
+        damaged.checkpoints.packed.resize(1);
+        EXPECT_THROW(decode_checkpoints(damaged), LibraryError);
+    }
+}
+
+// A refined world stores only the bodies it re-simulated; its polyline is put together from
+// blocks derived on all cores and blocks copied from its parent. Either way it must be the one
+// its completed tracks give, whether the parent was read in the same pass or an earlier one.
+TEST_F(Library, ARefinedWorldsPolylineIsTheOneItsOwnTracksGive) {
+    const std::string file = path("refined.mwb");
+    sample_into(file, fixtures::pile(6, 24), 0, 2);
+    const auto refine = [&](uint64_t parent, uint32_t body, double branch_s) {
+        LibraryReader reader(file);
+        LibraryWriter writer(file, reader.header());
+        RefineRequest request;
+        request.parent_world = parent;
+        request.bodies = {body};
+        request.branch_time_s = branch_s;
+        request.count = 3;
+        return refine_stored_world(reader, request, writer).first_child;
+    };
+    const uint64_t child = refine(0, 5, 0.5);  // the first box (0 is the ground, 1-4 the walls)
+    LibraryReader following(file, ReaderOptions{false, 30});  // the parent and children, read at once
+    const uint64_t grandchild = refine(child, 6, 1.0);  // another box, from a refined world
+    ASSERT_EQ(following.poll(), 3u);  // the grandchildren, whose parent was read before
+    const LibraryReader at_once(file, ReaderOptions{false, 30});
+    for (const LibraryReader* reader : std::vector<const LibraryReader*>{&following, &at_once}) {
+        ASSERT_EQ(reader->worlds().size(), 8u);
+        EXPECT_TRUE(reader->warnings().empty());
+        for (const StoredWorld& world : reader->worlds()) {
+            StoredWorld alone = world;
+            derive_polyline(alone, 30);  // every block from the decoded tracks
+            EXPECT_EQ(world.polyline, alone.polyline) << "world " << world.world_index;
+            EXPECT_EQ(world.polyline_points, alone.polyline_points);
+        }
+        // An untouched wall's block is the parent's.
+        const auto world_of = [&](uint64_t index) -> const StoredWorld& {
+            return *std::find_if(reader->worlds().begin(), reader->worlds().end(),
+                                 [&](const StoredWorld& w) { return w.world_index == index; });
+        };
+        const StoredWorld& parent = world_of(child);
+        const StoredWorld& refined = world_of(grandchild);
+        const size_t words = quantized::block_words(refined.polyline_points);
+        const auto block = [&](const StoredWorld& w, size_t body) {
+            return std::vector<uint16_t>(w.polyline.begin() + static_cast<std::ptrdiff_t>(body * words),
+                                         w.polyline.begin() + static_cast<std::ptrdiff_t>((body + 1) * words));
+        };
+        EXPECT_EQ(block(refined, 1), block(parent, 1));
     }
 }
 

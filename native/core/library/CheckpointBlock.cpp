@@ -1,5 +1,6 @@
 #include "library/CheckpointBlock.h"
 
+#include <cstring>
 #include <memory>
 
 #include <zlib.h>
@@ -54,18 +55,22 @@ void write_checkpoints(ByteWriter& out, const std::vector<Checkpoint>& checkpoin
     out.put_blob(packed);
 }
 
-std::vector<Checkpoint> read_checkpoints(ByteReader& in, uint32_t record_version) {
-    // Version 4 added each body's quiet time (sleeping); earlier worlds never slept.
-    const bool has_quiet = record_version >= 4;
-    const size_t body_bytes = kBodyStateBytes + (has_quiet ? sizeof(double) : 0);
-    const auto plain_size = in.get<uint64_t>();
-    const auto [packed, packed_size] = in.get_blob();
+namespace {
+
+void check_claimed_size(const ByteReader& in, uint64_t plain_size, size_t packed_size) {
     // Deflate cannot expand data more than 1032:1; a larger claim is corruption, refused before
     // allocating for it.
     if (plain_size > kMaxInflatedBytes || plain_size > uint64_t{packed_size} * 1032 + 64)
         in.fail("checkpoint block claims " + std::to_string(plain_size) + " bytes");
-    // Not zeroed first: inflating writes every byte, and zeroing a world's half megabyte of
-    // checkpoints was a quarter of opening a staircase search's library.
+}
+
+std::vector<Checkpoint> inflate(ByteReader& in, uint32_t record_version, uint64_t plain_size, const uint8_t* packed,
+                                size_t packed_size) {
+    // Version 4 added each body's quiet time (sleeping); earlier worlds never slept.
+    const bool has_quiet = record_version >= 4;
+    const size_t body_bytes = kBodyStateBytes + (has_quiet ? sizeof(double) : 0);
+    check_claimed_size(in, plain_size, packed_size);
+    // Not zeroed first: inflating writes every byte.
     const std::unique_ptr<uint8_t[]> plain(new uint8_t[plain_size > 0 ? plain_size : 1]);
     uLongf out_size = plain_size;
     if (uncompress(plain.get(), &out_size, packed, packed_size) != Z_OK || out_size != plain_size)
@@ -99,6 +104,47 @@ std::vector<Checkpoint> read_checkpoints(ByteReader& in, uint32_t record_version
         for (uint32_t j = 0; j < joint_count; ++j) c.joint_broken[j] = raw.get<uint8_t>();
     }
     return checkpoints;
+}
+
+}  // namespace
+
+std::vector<Checkpoint> read_checkpoints(ByteReader& in, uint32_t record_version) {
+    const auto plain_size = in.get<uint64_t>();
+    const auto [packed, packed_size] = in.get_blob();
+    return inflate(in, record_version, plain_size, packed, packed_size);
+}
+
+PackedCheckpoints read_packed_checkpoints(ByteReader& in, uint32_t record_version) {
+    PackedCheckpoints block;
+    block.record_version = record_version;
+    block.plain_size = in.get<uint64_t>();
+    const auto [packed, packed_size] = in.get_blob();
+    check_claimed_size(in, block.plain_size, packed_size);
+    block.packed.assign(packed, packed + packed_size);
+    return block;
+}
+
+size_t checkpoint_count(const PackedCheckpoints& block) {
+    // The count is the block's first word: inflate that much of the stream and stop.
+    uint8_t head[4];
+    z_stream stream{};
+    stream.next_in = const_cast<Bytef*>(block.packed.data());
+    stream.avail_in = static_cast<uInt>(block.packed.size());
+    stream.next_out = head;
+    stream.avail_out = sizeof head;
+    if (inflateInit(&stream) != Z_OK) return 0;
+    const int status = inflate(&stream, Z_SYNC_FLUSH);
+    const bool whole = (status == Z_OK || status == Z_STREAM_END) && stream.avail_out == 0;
+    inflateEnd(&stream);
+    if (!whole) return 0;
+    uint32_t count;
+    std::memcpy(&count, head, sizeof count);
+    return count;
+}
+
+std::vector<Checkpoint> inflate_checkpoints(const PackedCheckpoints& block, const std::string& what) {
+    ByteReader in(block.packed.data(), block.packed.size(), what);
+    return inflate(in, block.record_version, block.plain_size, block.packed.data(), block.packed.size());
 }
 
 }  // namespace mwb

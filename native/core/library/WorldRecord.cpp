@@ -58,7 +58,7 @@ StoredWorld decode_world_record(const uint8_t* data, size_t size, uint32_t versi
         e.other = in.get<int32_t>();
         e.impulse_ns = in.get<double>();
     }
-    w.checkpoints = read_checkpoints(in, version);
+    w.checkpoints = read_packed_checkpoints(in, version);
     const size_t metric_count = in.get_count(4 + 4);
     w.metrics.resize(metric_count);
     for (MetricValues& m : w.metrics) {
@@ -102,6 +102,10 @@ StoredRejection decode_rejection_record(const uint8_t* data, size_t size, const 
     r.reason = in.get_string();
     if (in.remaining() != 0) in.fail("unexpected trailing bytes");
     return r;
+}
+
+std::vector<Checkpoint> decode_checkpoints(const StoredWorld& world) {
+    return inflate_checkpoints(world.checkpoints, "world " + std::to_string(world.world_index) + "'s checkpoints");
 }
 
 }  // namespace mwb
