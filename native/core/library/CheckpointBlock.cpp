@@ -108,12 +108,6 @@ std::vector<Checkpoint> inflate(ByteReader& in, uint32_t record_version, uint64_
 
 }  // namespace
 
-std::vector<Checkpoint> read_checkpoints(ByteReader& in, uint32_t record_version) {
-    const auto plain_size = in.get<uint64_t>();
-    const auto [packed, packed_size] = in.get_blob();
-    return inflate(in, record_version, plain_size, packed, packed_size);
-}
-
 PackedCheckpoints read_packed_checkpoints(ByteReader& in, uint32_t record_version) {
     PackedCheckpoints block;
     block.record_version = record_version;

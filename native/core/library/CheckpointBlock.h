@@ -12,16 +12,14 @@ namespace mwb {
 
 void write_checkpoints(ByteWriter& out, const std::vector<Checkpoint>& checkpoints, uint32_t body_count,
                        uint32_t joint_count);
-/// `record_version`: the world record's version, which decides the checkpoint layout.
-std::vector<Checkpoint> read_checkpoints(ByteReader& in, uint32_t record_version);
-
 /// A checkpoint block as stored, still deflated: what a loaded world keeps (see StoredWorld).
 struct PackedCheckpoints {
     uint32_t record_version = 0;
     uint64_t plain_size = 0;
     std::vector<uint8_t> packed;
 };
-/// Takes the block without inflating it; its claimed size is checked as read_checkpoints does.
+/// Takes the block without inflating it (`record_version`: the world record's version, which
+/// decides the checkpoint layout); its claimed size is checked against what deflate can hold.
 PackedCheckpoints read_packed_checkpoints(ByteReader& in, uint32_t record_version);
 /// How many checkpoints a packed block holds, inflating only its first bytes; 0 for a damaged one.
 size_t checkpoint_count(const PackedCheckpoints& block);
