@@ -5,6 +5,7 @@
 // failing, and learns how late in a part's span to branch from which refinements paid.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <set>
 
 #include "SceneFixtures.h"
@@ -200,6 +201,56 @@ TEST(BranchPlanner, LearnsHowLateToBranchFromTheRefinementsThatPaid) {
         for (size_t k = 30; k < times.size(); ++k) paying += late_pays ? times[k] >= 4.5 : times[k] < 1.5;
         EXPECT_GE(paying, 25u) << (late_pays ? "the last" : "the first") << " quarter pays; of the last 30 choices, "
                                << paying << " were there";
+    }
+}
+
+// C meets two parts in order (its first spot at 1 s, its second at 2 s) and then has to be at a
+// third some time from 5 s to the world's end (10 s); it came nearest at `failure_time_s`.
+// Every branch point it is given, in the order they come.
+std::vector<double> chain_points(double failure_time_s) {
+    ThreeBoxes s;
+    for (QueryBox& part : s.parts) part.bodies = {3};
+    s.parts[0].window = s.parts[1].window = {};
+    s.parts[2].window = {5.0, 10.0};
+    s.parts[1].after = 0;
+    s.parts[2].after = 1;
+    s.world.contacts.clear();
+    for (double t = 0.25; t < 9.5; t += 0.25) s.world.contacts.push_back({t, 3, 0, 1.0});
+    s.score.boxes_met = 2;
+    s.score.met = {1, 1, 0};
+    s.score.met_time_s = {1.0, 2.0, 0};
+    s.score.misses = {{2, 0.3, failure_time_s, 2.0, {3}}};
+    s.score.first_unmet = 2;
+    s.score.closeness = 0.3;
+    s.score.failure_time_s = failure_time_s;
+    s.score.failing_bodies = {3};
+    BranchPlanner planner(s.scene, s.parts, 7);
+    std::vector<double> times;
+    Branch b;
+    while (planner.choose(0, s.world, s.score, b)) {
+        times.push_back(seconds(b));
+        if (times.size() > 100) break;
+    }
+    return times;
+}
+
+TEST(BranchPlanner, AWorldTooFastOrTooSlowForAnOrderedPartIsBranchedAllTheWayBack) {
+    // Missed in place: C came nearest its third spot 6 s in, inside that part's window. Keeping
+    // what the parts before achieved, all but the last, it is branched only after the first was
+    // met (1 s).
+    const std::vector<double> in_place = chain_points(6.0);
+    ASSERT_FALSE(in_place.empty());
+    EXPECT_GE(*std::min_element(in_place.begin(), in_place.end()), 1.0);
+    // Too fast: C passed its third spot at 3 s, before the window opened, and went on (the
+    // staircase's figure sliding off the bottom). Too slow: it was still on its way at the end
+    // (the figure that rested on a tread half the time). What changes its pace lies anywhere on
+    // the way.
+    for (double failure : {3.0, 9.8}) {
+        const std::vector<double> paced = chain_points(failure);
+        ASSERT_FALSE(paced.empty());
+        EXPECT_LT(*std::min_element(paced.begin(), paced.end()), 1.0)
+            << "came nearest at " << failure << " s: never branched before the first part was met";
+        EXPECT_LT(*std::max_element(paced.begin(), paced.end()), failure) << "nothing after it went wrong changes it";
     }
 }
 
