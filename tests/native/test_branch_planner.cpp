@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <set>
+#include <utility>
 
 #include "SceneFixtures.h"
 #include "seek/BranchPlanner.h"
@@ -205,9 +207,10 @@ TEST(BranchPlanner, LearnsHowLateToBranchFromTheRefinementsThatPaid) {
 }
 
 // C meets two parts in order (its first spot at 1 s, its second at 2 s) and then has to be at a
-// third some time from 5 s to the world's end (10 s); it came nearest at `failure_time_s`.
-// Every branch point it is given, in the order they come.
-std::vector<double> chain_points(double failure_time_s) {
+// third some time from 5 s to the world's end (10 s); it came nearest at `failure_time_s`, and
+// was in it before 5 s at `early_visit_s` (infinity: never). Every branch point it is given, in
+// the order they come.
+std::vector<double> chain_points(double failure_time_s, double early_visit_s) {
     ThreeBoxes s;
     for (QueryBox& part : s.parts) part.bodies = {3};
     s.parts[0].window = s.parts[1].window = {};
@@ -219,7 +222,7 @@ std::vector<double> chain_points(double failure_time_s) {
     s.score.boxes_met = 2;
     s.score.met = {1, 1, 0};
     s.score.met_time_s = {1.0, 2.0, 0};
-    s.score.misses = {{2, 0.3, failure_time_s, 2.0, {3}}};
+    s.score.misses = {{2, 0.3, failure_time_s, 2.0, {3}, early_visit_s}};
     s.score.first_unmet = 2;
     s.score.closeness = 0.3;
     s.score.failure_time_s = failure_time_s;
@@ -235,18 +238,21 @@ std::vector<double> chain_points(double failure_time_s) {
 }
 
 TEST(BranchPlanner, AWorldTooFastOrTooSlowForAnOrderedPartIsBranchedAllTheWayBack) {
-    // Missed in place: C came nearest its third spot 6 s in, inside that part's window. Keeping
-    // what the parts before achieved, all but the last, it is branched only after the first was
-    // met (1 s).
-    const std::vector<double> in_place = chain_points(6.0);
-    ASSERT_FALSE(in_place.empty());
-    EXPECT_GE(*std::min_element(in_place.begin(), in_place.end()), 1.0);
-    // Too fast: C passed its third spot at 3 s, before the window opened, and went on (the
+    const double never = std::numeric_limits<double>::infinity();
+    // Missed in place: C came nearest its third spot 6 s in, inside that part's window, or stopped
+    // short of it at 3 s. Keeping what the parts before achieved, all but the last, it is branched
+    // only after the first was met (1 s).
+    for (double failure : {6.0, 3.0}) {
+        const std::vector<double> in_place = chain_points(failure, never);
+        ASSERT_FALSE(in_place.empty());
+        EXPECT_GE(*std::min_element(in_place.begin(), in_place.end()), 1.0) << "came nearest at " << failure << " s";
+    }
+    // Too fast: C was in its third spot at 3 s, before the window opened, and went on (the
     // staircase's figure sliding off the bottom). Too slow: it was still on its way at the end
     // (the figure that rested on a tread half the time). What changes its pace lies anywhere on
     // the way.
-    for (double failure : {3.0, 9.8}) {
-        const std::vector<double> paced = chain_points(failure);
+    for (const auto& [failure, early] : {std::pair{3.0, 3.0}, std::pair{9.8, never}}) {
+        const std::vector<double> paced = chain_points(failure, early);
         ASSERT_FALSE(paced.empty());
         EXPECT_LT(*std::min_element(paced.begin(), paced.end()), 1.0)
             << "came nearest at " << failure << " s: never branched before the first part was met";

@@ -183,6 +183,24 @@ TEST(GoalScore, ClosenessOfAPositiveBoxIsTheNearestApproachInBoxSizes) {
     EXPECT_LT(nearer.value(), 1.0);
 }
 
+TEST(GoalScore, ABoxWithAWindowKnowsWhenTheWorldWasInItTooSoon) {
+    // Cup 2 after cup 1, in the window 4-5 s (the world is 5 s long).
+    std::vector<QueryBox> cups{box(1.5, 2.5, 0, 1, {0}), box(3.5, 4.5, 0, 1, {0}, 0)};
+    cups[1].window = {4.0, 5.0};
+    const auto early_of = [&](const std::vector<std::pair<double, double>>& waypoints) {
+        const GoalScore s = score_goal({path_through(waypoints)}, {0.1}, cups, goal_order(cups));
+        EXPECT_EQ(s.boxes_met, 1u);
+        EXPECT_EQ(s.misses.size(), 1u);
+        return s.misses.empty() ? -1.0 : s.misses.front().early_visit_s;
+    };
+    // Through cup 1 and cup 2 by 2 s, and on: there too soon, from x = 3.5 (1.75 s).
+    EXPECT_NEAR(early_of({{0, 0.5}, {2, 0.5}, {4, 0.5}, {6, 0.5}, {8, 0.5}, {8, 0.5}}), 1.75, kTimeTolerance);
+    // Stopped short of cup 2: never in it.
+    EXPECT_TRUE(std::isinf(early_of({{0, 0.5}, {2, 0.5}, {3, 0.5}, {3, 0.5}, {3, 0.5}, {3, 0.5}})));
+    // In cup 2 only before cup 1 was met: that visit does not count.
+    EXPECT_TRUE(std::isinf(early_of({{4, 0.5}, {2, 0.5}, {0, 0.5}, {0, 0.5}, {0, 0.5}, {0, 0.5}})));
+}
+
 TEST(GoalScore, EveryPartItCouldMeetNextIsListedNearestFirst) {
     // Body 0 meets its box; body 1 passes half a box from its own, body 2 three boxes from its own.
     const std::vector<QueryBox> goal{box(0, 1, 0, 1, {0}), box(4, 5, 0, 1, {1}), box(-5, -4, 0, 1, {2})};

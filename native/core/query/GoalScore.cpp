@@ -72,6 +72,20 @@ void score_positive_miss(const std::vector<PathView>& paths, const std::vector<d
     score.failure_time_s = std::max(lo, 0.0);
 }
 
+// The first moment from `since` until its window opens that one of a positive box's bodies is in
+// it (infinity if none is).
+double early_visit(const std::vector<PathView>& paths, const std::vector<double>& radii, const QueryBox& box,
+                   double since) {
+    double first = kInfinity;
+    if (!(since < box.window.lo_s)) return first;
+    for (uint32_t body : box.bodies) {
+        if (!has_path(paths, body)) continue;
+        const double t = paths[body].first_touch_time(box.frustum, {since, box.window.lo_s}, radius_of(box, radii, body));
+        if (t >= 0) first = std::min(first, t);
+    }
+    return first;
+}
+
 void score_negative_miss(const std::vector<PathView>& paths, const std::vector<double>& radii, const QueryBox& box,
                          double lo, double hi, GoalScore& score) {
     // Share of the window's samples at which some body is inside (all bodies share one clock).
@@ -313,9 +327,15 @@ GoalScore score_goal(const std::vector<PathView>& paths, const std::vector<doubl
             miss.window_start_s = std::max(lo, 0.0);
             if (box.orientation) score_orientation_miss(paths, *orientations, box, lo, hi, miss);
             else if (box.negative) score_negative_miss(paths, body_radii_m, box, lo, hi, miss);
-            else score_positive_miss(paths, body_radii_m, box, lo, hi, miss);
+            else {
+                score_positive_miss(paths, body_radii_m, box, lo, hi, miss);
+                if (!box.window.empty() && reachable) {
+                    const double since = box.after >= 0 ? score.met_time_s[static_cast<size_t>(box.after)] : 0.0;
+                    miss.early_visit_s = early_visit(paths, body_radii_m, box, since);
+                }
+            }
             score.misses.push_back({static_cast<int32_t>(k), miss.closeness, miss.failure_time_s, miss.window_start_s,
-                                    std::move(miss.failing_bodies)});
+                                    std::move(miss.failing_bodies), miss.early_visit_s});
         }
     }
     // Nearest first; on a tie the first in goal order (the sort is stable).
@@ -328,6 +348,7 @@ GoalScore score_goal(const std::vector<PathView>& paths, const std::vector<doubl
         score.failure_time_s = nearest.failure_time_s;
         score.failing_bodies = nearest.failing_bodies;
         score.window_start_s = nearest.window_start_s;
+        score.early_visit_s = nearest.early_visit_s;
     }
     for (const GoalScore::Miss& miss : score.misses)
         if (boxes[static_cast<size_t>(miss.part)].negative)

@@ -51,6 +51,10 @@ struct GoalScore {
     std::vector<uint32_t> failing_bodies;
     /// When that box's window opens, after the box it follows (seconds; 0 for the whole path).
     double window_start_s = 0;
+    /// For a positive box with a time window: when one of its bodies was already in it before
+    /// the window opened (after the box it follows was met) and went on, the world being too
+    /// soon there. Infinity when none was.
+    double early_visit_s = std::numeric_limits<double>::infinity();
 
     /// Every part it could meet next, as above for first_unmet (closeness, where it went wrong,
     /// the bodies to blame), nearest first; the first is first_unmet's. Empty without closeness.
@@ -58,6 +62,7 @@ struct GoalScore {
         int32_t part = -1;
         double closeness = 0, failure_time_s = 0, window_start_s = 0;
         std::vector<uint32_t> failing_bodies;
+        double early_visit_s = std::numeric_limits<double>::infinity();
     };
     std::vector<Miss> misses;
 

@@ -52,14 +52,14 @@ std::vector<Branch> BranchPlanner::branch_points(const StoredWorld& w, const Goa
     if (box.after >= 0) {
         const int32_t earlier = boxes_[static_cast<size_t>(box.after)].after;
         lower = earlier >= 0 ? score.met_time_s[static_cast<size_t>(earlier)] : 0.0;
-        // A miss of pace, not of place, may be mended anywhere on the way: the world got there
-        // before the window opened and went on (too fast), or was still on its way when it ended
-        // (too slow). On the staircase the leading families met every step box by 24-28 s and slid
+        // A miss of pace, not of place, may be mended anywhere on the way: the world was in the
+        // box before its window opened and went on (too fast), or was still on its way to it when
+        // it ended (too slow). On the staircase the leading families met every step box by 24-28 s and slid
         // off the bottom by 30, the end box's window being the last second; others met their 6th
         // and 7th step box 39.8 and 39.6 s into the 40, one after resting 28 s on a tread. Their
         // refinements all branched after the step box two before, and the families made 480 to
         // 1,037 worlds more without meeting another part.
-        const bool too_fast = !box.window.empty() && miss.failure_time_s < box.window.lo_s;
+        const bool too_fast = std::isfinite(miss.early_visit_s);
         const bool too_slow = miss.failure_time_s > world_end - kRunningOutS;
         if (too_fast || too_slow) lower = 0.0;
     }
