@@ -12,6 +12,7 @@
 #include "refine/StoredWorldRefinement.h"
 #include "scene/SceneJson.h"
 #include "seek/BranchPlanner.h"
+#include "seek/FamilyAllowance.h"
 #include "query/ScreenBox.h"
 #include "seek/GoalJson.h"
 #include "seek/ScoredWorlds.h"
@@ -57,7 +58,8 @@ public:
           scene_(scene_from_json(reader_.scene_json())),
           own_maker_(request.threads, request.cache_bytes),
           maker_(maker ? *maker : own_maker_),
-          start_(std::chrono::steady_clock::now()) {
+          start_(std::chrono::steady_clock::now()),
+          allowance_(request.family_stall_worlds, kBrokenFamilyWorlds) {
         check_request();
         worlds_.emplace(reader_, scene_, request_.boxes, request_.threads);
         planner_.emplace(scene_, request_.boxes, request_.seed);
@@ -167,22 +169,17 @@ private:
     // batches sampled meanwhile never got a place in the beam: hence 1,024.
     void note_family_progress(uint64_t world, const std::vector<std::pair<uint64_t, double>>& children,
                               uint64_t made) {
+        const auto as_seen = [&](uint64_t w) {
+            const GoalScore& s = worlds_->score(w);
+            return FamilyWorld{s.value(), std::isfinite(s.violation_time_s)};
+        };
+        std::vector<FamilyWorld> scored;
+        for (const auto& child : children) scored.push_back(as_seen(child.first));
         const uint64_t family = worlds_->family_of(world);
-        auto [it, first_time] = families_.try_emplace(family);
-        FamilyRecord& record = it->second;
-        if (first_time) record.parts = std::floor(worlds_->score(world).value());
-        double best_child = -1;
-        for (const auto& child : children) best_child = std::max(best_child, std::floor(child.second));
-        if (best_child > record.parts) {
-            record.parts = best_child;
-            record.worlds_since_gain = 0;
-            return;
-        }
-        record.worlds_since_gain += made;
-        const bool broken = std::isfinite(worlds_->score(world).violation_time_s);
-        if (record.worlds_since_gain < (broken ? kBrokenFamilyWorlds : request_.family_stall_worlds)) return;
+        const FamilyAllowance::Verdict verdict = allowance_.note(family, as_seen(world), scored, made);
+        if (verdict == FamilyAllowance::Verdict::Keep) return;
         worlds_->set_aside(family);
-        if (broken) {
+        if (verdict == FamilyAllowance::Verdict::BrokenStart) {
             sample_batch();
             worlds_->take_new_worlds();
             made_at_progress_ = made_;
@@ -284,11 +281,7 @@ private:
     double parts_gained_ = 0;  ///< by refinements: parts the best world gained when they made it
     double best_value_ = -1;
     uint64_t made_at_progress_ = 0;
-    struct FamilyRecord {
-        double parts = 0;                ///< the most parts a world of the family meets
-        uint64_t worlds_since_gain = 0;  ///< worlds its refinements made since that rose
-    };
-    std::map<uint64_t, FamilyRecord> families_;
+    FamilyAllowance allowance_;
 };
 
 }  // namespace
