@@ -12,6 +12,13 @@ namespace {
 // Distances within this fraction of the cloud's half-diagonal count as zero (coplanar, duplicate
 // or interior): far above double rounding, far below any modelling detail.
 constexpr double kRelativeTolerance = 1e-9;
+// A face's first corner narrower than this fraction of its widest one is not trusted to ODE.
+constexpr double kNarrowCornerFraction = 1e-3;
+
+// The hull folded over at this tolerance (rounding, near-duplicate points): a coarser one may not.
+struct FoldedHull : GeometryError {
+    using GeometryError::GeometryError;
+};
 
 struct Triangle {
     std::array<uint32_t, 3> v;
@@ -88,7 +95,7 @@ private:
 
     uint32_t find_face(uint32_t from, uint32_t to) const {
         auto it = edges_.find(edge_key(from, to));
-        if (it == edges_.end()) throw GeometryError("convex hull: numerical breakdown (open edge)");
+        if (it == edges_.end()) throw FoldedHull("convex hull: numerical breakdown (open edge)");
         return it->second;
     }
 
@@ -102,7 +109,7 @@ private:
         for (int k = 0; k < 3; ++k) {
             // A directed edge already in use means the surface folded over: give up cleanly.
             if (!edges_.emplace(edge_key(t.v[k], t.v[(k + 1) % 3]), index).second)
-                throw GeometryError("convex hull: numerical breakdown (repeated edge)");
+                throw FoldedHull("convex hull: numerical breakdown (repeated edge)");
         }
         faces_.push_back(std::move(t));
         return index;
@@ -296,16 +303,25 @@ void drop_collinear(const std::vector<Vec3>& points, std::vector<uint32_t>& loop
     }
 }
 
-}  // namespace
+// ODE checks a face's winding on its first three vertices alone, and a nearly straight corner
+// there could read as clockwise by rounding: such a loop starts at its widest corner instead
+// (any other keeps its order, and the worlds of scenes that never had one stay as they were).
+void start_at_a_wide_corner(const std::vector<Vec3>& points, std::vector<uint32_t>& loop) {
+    auto corner_area = [&](size_t i) {
+        const Vec3& a = points[loop[i]];
+        return norm(cross(sub(points[loop[(i + 1) % loop.size()]], a), sub(points[loop[(i + 2) % loop.size()]], a)));
+    };
+    size_t best = 0;
+    for (size_t i = 1; i < loop.size(); ++i)
+        if (corner_area(i) > corner_area(best)) best = i;
+    if (corner_area(0) >= kNarrowCornerFraction * corner_area(best)) return;
+    std::rotate(loop.begin(), loop.begin() + static_cast<std::ptrdiff_t>(best), loop.end());
+}
 
-ConvexHull compute_convex_hull(const std::vector<double>& xyz) {
-    const std::vector<Vec3> input = read_points(xyz);
-    double half_diagonal = 0;
-    const Vec3 center = bounds_center(input, half_diagonal);
+// The hull of `input` built with `tol`, as polygons with unit planes.
+ConvexHull build_hull(const std::vector<Vec3>& input, const Vec3& center, double tol) {
     std::vector<Vec3> centred(input.size());
     for (size_t i = 0; i < input.size(); ++i) centred[i] = sub(input[i], center);
-    const double tol = kRelativeTolerance * half_diagonal;
-
     HullBuilder builder(std::move(centred), tol);
     builder.build();
 
@@ -313,6 +329,7 @@ ConvexHull compute_convex_hull(const std::vector<double>& xyz) {
     std::unordered_map<uint32_t, uint32_t> renumbered;
     for (std::vector<uint32_t> loop : builder.polygons()) {
         drop_collinear(builder.points(), loop, tol);
+        start_at_a_wide_corner(builder.points(), loop);
         const Vec3 n = newell_normal(builder.points(), loop);
         const Vec3 unit = scale(n, 1.0 / norm(n));
         double offset = 0;
@@ -326,6 +343,60 @@ ConvexHull compute_convex_hull(const std::vector<double>& xyz) {
         hull.faces.push_back(std::move(loop));
     }
     return hull;
+}
+
+// Whether `hull` is what ODE needs of it: a closed surface (every edge in two faces, once each
+// way, V - E + F = 2) of convex faces wound counter-clockwise from outside, with every input
+// point on or inside every plane (within `slack`).
+bool is_closed_convex(const ConvexHull& hull, const std::vector<Vec3>& input, double slack) {
+    std::unordered_map<uint64_t, int> edges;
+    for (size_t f = 0; f < hull.faces.size(); ++f) {
+        const auto& face = hull.faces[f];
+        if (face.size() < 3) return false;
+        const Vec3 n{hull.planes[f][0], hull.planes[f][1], hull.planes[f][2]};
+        for (size_t i = 0; i < face.size(); ++i) {
+            const Vec3& a = hull.points[face[i]];
+            const Vec3& b = hull.points[face[(i + 1) % face.size()]];
+            const Vec3& c = hull.points[face[(i + 2) % face.size()]];
+            if (std::fabs(dot(n, a) - hull.planes[f][3]) > slack) return false;
+            // Each corner turns the same way as the face's normal (a convex, CCW polygon).
+            if (dot(cross(sub(b, a), sub(c, b)), n) < 0) return false;
+            if (!edges.emplace(edge_key(face[i], face[(i + 1) % face.size()]), 1).second) return false;
+        }
+        for (const Vec3& p : input)
+            if (dot(n, p) - hull.planes[f][3] > slack) return false;
+    }
+    for (const auto& [key, used] : edges)
+        if (!edges.count((key << 32) | (key >> 32))) return false;
+    const long euler = static_cast<long>(hull.points.size()) - static_cast<long>(edges.size() / 2) +
+                       static_cast<long>(hull.faces.size());
+    return euler == 2;
+}
+
+// Tolerances tried in turn, as fractions of the cloud's half-diagonal. The first is far below any
+// modelling detail; clouds with near-duplicate points (a mesh's seam, float coordinates, a grown
+// hull's bevels) can fold a hull built that fine, and a coarser one merges them. The last is
+// 10 micrometres on a 1 m body.
+constexpr double kRelativeTolerances[] = {kRelativeTolerance, 1e-7, 1e-6, 1e-5};
+
+}  // namespace
+
+ConvexHull compute_convex_hull(const std::vector<double>& xyz) {
+    const std::vector<Vec3> input = read_points(xyz);
+    double half_diagonal = 0;
+    const Vec3 center = bounds_center(input, half_diagonal);
+    std::string trouble;
+    for (const double relative : kRelativeTolerances) {
+        const double tol = relative * half_diagonal;
+        try {
+            ConvexHull hull = build_hull(input, center, tol);
+            if (is_closed_convex(hull, input, 4 * tol)) return hull;
+            trouble = "not a closed convex surface";
+        } catch (const FoldedHull& error) {
+            trouble = error.what();
+        }
+    }
+    throw GeometryError("convex hull: numerical breakdown at every tolerance (" + trouble + ")");
 }
 
 std::vector<double> thicken_flat_points(const std::vector<double>& xyz) {

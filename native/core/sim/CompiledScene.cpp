@@ -23,6 +23,9 @@ constexpr double kGhostMargin_m = 0.01;
 // fast bodies cannot cross its mid-plane while the face they land on stays where Blender has it.
 constexpr double kGroundPlateThickness_m = 0.02;
 constexpr double kGroundPlateMaxTiltCos = 0.866;
+// A convex geom's origin must be at least this fraction of its reach inside each face, so that
+// ODE's check of each face (the sign of a determinant) cannot be tipped by rounding.
+constexpr double kConvexOriginClearance = 1e-6;
 
 Transform compose(const Transform& parent, const Transform& child) {
     return {add(parent.location, quat_rotate(parent.rotation, child.location)),
@@ -125,6 +128,21 @@ bool box_of_hull(const ConvexHull& hull, CollisionPart& part) {
     return true;
 }
 
+// Where ODE's convex geom of `hull` (body frame) has its origin: ODE requires the origin inside
+// every face. The body frame's own origin when it is well inside (a simulated body's centre of
+// mass), else the mean of the hull's corners (a passive hull whose object origin lies on or off
+// its surface, a compound's part).
+Vec3 convex_geom_origin(const ConvexHull& hull) {
+    double extent = 0;
+    for (const Vec3& p : hull.points) extent = std::max(extent, norm(p));
+    double nearest_face = extent;
+    for (const auto& plane : hull.planes) nearest_face = std::min(nearest_face, plane[3]);
+    if (nearest_face > kConvexOriginClearance * extent) return {0, 0, 0};
+    Vec3 mean{0, 0, 0};
+    for (const Vec3& p : hull.points) mean = add(mean, p);
+    return scale(mean, 1.0 / static_cast<double>(hull.points.size()));
+}
+
 // The part of a convex shape of `points` (body frame) grown by `margin`: a box when the hull is a
 // box (its faces moved out), else a general convex hull (faces moved out, edges bevelled).
 CollisionPart convex_part(std::vector<double> points, double margin) {
@@ -136,8 +154,15 @@ CollisionPart convex_part(std::vector<double> points, double margin) {
     if (margin > 0) grow_hull_points(points, margin);
     const ConvexHull hull = compute_convex_hull(points);
     part.kind = PartKind::Convex;
-    for (const Vec3& p : hull.points) part.convex_points.insert(part.convex_points.end(), p.begin(), p.end());
-    for (const auto& plane : hull.planes) part.convex_planes.insert(part.convex_planes.end(), plane.begin(), plane.end());
+    part.offset.location = convex_geom_origin(hull);
+    const Vec3& origin = part.offset.location;
+    for (const Vec3& p : hull.points) {
+        const Vec3 q = sub(p, origin);
+        part.convex_points.insert(part.convex_points.end(), q.begin(), q.end());
+    }
+    for (const auto& plane : hull.planes)
+        part.convex_planes.insert(part.convex_planes.end(),
+                                  {plane[0], plane[1], plane[2], plane[3] - dot({plane[0], plane[1], plane[2]}, origin)});
     for (const auto& face : hull.faces) {
         part.convex_polygons.push_back(static_cast<unsigned int>(face.size()));
         part.convex_polygons.insert(part.convex_polygons.end(), face.begin(), face.end());
@@ -156,10 +181,12 @@ double part_bounding_radius(const CollisionPart& part) {
         case PartKind::Cylinder: return center + portable::hypot(part.radius_m, part.length_m / 2);
         case PartKind::Convex:
         case PartKind::TriangleMesh: {
+            // Convex points are about the part's offset (identity rotation); mesh points are not.
             const auto& xyz = part.kind == PartKind::Convex ? part.convex_points : part.mesh_vertices;
+            const Vec3 shift = part.kind == PartKind::Convex ? part.offset.location : Vec3{0, 0, 0};
             double r = 0;
             for (size_t i = 0; i + 2 < xyz.size(); i += 3)
-                r = std::max(r, norm({xyz[i], xyz[i + 1], xyz[i + 2]}));
+                r = std::max(r, norm(add(shift, {xyz[i], xyz[i + 1], xyz[i + 2]})));
             return r;
         }
     }

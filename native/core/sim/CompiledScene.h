@@ -14,15 +14,16 @@ namespace mwb {
 enum class PartKind { Box, Sphere, Capsule, Cylinder, Convex, TriangleMesh };
 
 /// One collision geometry of a body, in the body's frame (centre of mass for dynamic bodies,
-/// object origin otherwise). Convex and TriangleMesh data are already in that frame.
+/// object origin otherwise). TriangleMesh data are already in that frame; Convex data are about the
+/// part's offset, which ODE needs inside every face of the hull.
 struct CollisionPart {
     PartKind kind = PartKind::Box;
     Vec3 half_extents_m{0, 0, 0};
     double radius_m = 0;
     double length_m = 0;  ///< Capsule: cylinder part only (ODE's convention); Cylinder: full
-    Transform offset;     ///< primitives only
-    std::vector<double> convex_points;          ///< (n, 3)
-    std::vector<double> convex_planes;          ///< (f, 4)
+    Transform offset;     ///< primitives; Convex: a translation only; TriangleMesh: unused
+    std::vector<double> convex_points;          ///< (n, 3), about offset.location
+    std::vector<double> convex_planes;          ///< (f, 4): unit outward normal, distance from offset.location (> 0)
     std::vector<unsigned int> convex_polygons;  ///< ODE layout: count, indices..., per face
     unsigned int convex_plane_count = 0, convex_point_count = 0;
     std::vector<double> mesh_vertices;   ///< (n, 3), thickened by mesh_margin_m

@@ -153,7 +153,10 @@ void OdeWorld::create_geoms(size_t body_index, const std::vector<CollisionPart>&
         // Blender bodies collide when they share a collision collection.
         dGeomSetCategoryBits(geom, collections);
         dGeomSetCollideBits(geom, collections);
-        const bool primitive = part.kind != PartKind::Convex && part.kind != PartKind::TriangleMesh;
+        // Every part but a triangle mesh sits at its offset (a convex part's points are about it;
+        // one whose offset is zero is placed as the body, as it always was, so its worlds stay).
+        const bool primitive = part.kind != PartKind::TriangleMesh &&
+                               (part.kind != PartKind::Convex || part.offset.location != Vec3{0, 0, 0});
         dQuaternion q;
         to_ode_quaternion(part.offset.rotation, q);
         if (owner) {
