@@ -1,6 +1,7 @@
 #include "EngineEvents.h"
 
 #include <cerrno>
+#include <cstdio>
 #include <iostream>
 #include <thread>
 #ifdef _WIN32
@@ -26,17 +27,45 @@ int read_stdin(char* buffer, unsigned size) {
 #endif
 }
 
+// Events go out on a descriptor of their own, a copy of standard output; standard output itself
+// then points at standard error (the log), where ODE's and the C library's prints land.
+int take_stdout_for_events() {
+    std::fflush(stdout);
+#ifdef _WIN32
+    const int events = ::_dup(1);
+    if (events >= 0) ::_dup2(2, 1);
+#else
+    const int events = ::dup(STDOUT_FILENO);
+    if (events >= 0) ::dup2(STDERR_FILENO, STDOUT_FILENO);
+#endif
+    return events >= 0 ? events : 1;
+}
+
+void write_whole(int fd, const std::string& text) {
+    size_t done = 0;
+    while (done < text.size()) {
+#ifdef _WIN32
+        const int n = ::_write(fd, text.data() + done, static_cast<unsigned>(text.size() - done));
+#else
+        const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+#endif
+        if (n <= 0) return;  // the reader is gone: nobody is left to tell
+        done += static_cast<size_t>(n);
+    }
+}
+
 }  // namespace
 
-EngineEvents::EngineEvents(bool as_json, bool show_progress) : as_json_(as_json), show_progress_(show_progress) {}
+EngineEvents::EngineEvents(bool as_json, bool show_progress)
+    : as_json_(as_json), show_progress_(show_progress), events_fd_(as_json ? take_stdout_for_events() : 1) {}
 
 void EngineEvents::write(const char* event, nlohmann::json fields) {
     fields["event"] = event;
     // One line per event, whole: a reader takes a line at a time.
     const std::string line = fields.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
     std::lock_guard<std::mutex> lock(mutex_);
-    std::cout << line;
-    std::cout.flush();
+    write_whole(events_fd_, line);
 }
 
 void EngineEvents::start(const std::string& command) {

@@ -15,8 +15,9 @@ namespace mwb {
 
 class EngineEvents {
 public:
-    /// as_json: every event a JSON line on stdout, nothing else there. Otherwise text: summaries
-    /// on stdout; warnings, errors and (with show_progress) progress on stderr.
+    /// as_json: every event a JSON line on stdout, nothing else there (from then on, whatever the
+    /// process prints to stdout goes to stderr). Otherwise text: summaries on stdout; warnings,
+    /// errors and (with show_progress) progress on stderr.
     EngineEvents(bool as_json, bool show_progress);
 
     bool as_json() const { return as_json_; }
@@ -37,6 +38,7 @@ private:
 
     bool as_json_;
     bool show_progress_;
+    int events_fd_;  ///< where JSON events go: standard output as the engine started
     std::mutex mutex_;  // worlds finish on several threads
 };
 

@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -17,6 +18,7 @@
 #include "WorldWorker.h"
 #include "library/LibraryFormat.h"
 #include "library/WorldRecord.h"
+#include "sampler/InOrderDelivery.h"
 #include "sim/PortableRandom.h"
 
 namespace mwb {
@@ -34,6 +36,7 @@ struct Worker {
     pid_t pid = -1;
     int to_worker = -1, from_worker = -1;
     bool busy = false;
+    size_t task = 0;     ///< the position of its task in the run, while busy
     uint64_t world = 0;  ///< the world it is on, while busy
     uint32_t lineage_worlds = 0;  ///< its task's (WorkerTask)
     bool lineage_ready = true;    ///< it has the task's lineage: `started` is the world's own start
@@ -41,6 +44,14 @@ struct Worker {
     std::string fault;  ///< why the supervisor stopped it, if it did
     uint64_t records = 0;  ///< worlds it has sent
     std::vector<uint8_t> received;
+};
+
+// A world's outcome waiting in the reorder window: a worker's record, or the rejection the
+// supervisor writes for a world whose worker died.
+struct HeldRecord {
+    uint32_t type = 0, version = 0;
+    std::vector<uint8_t> payload;
+    std::optional<WorldResult> rejection;
 };
 
 std::string describe_exit(int status) {
@@ -65,28 +76,25 @@ public:
                            const SupervisedWorldSink& on_world, const std::atomic<bool>& cancel) {
         const auto start = Clock::now();
         tasks_ = &tasks;
-        writer_ = &writer;
         on_world_ = &on_world;
         next_ = 0;
         stats_ = {};
         refusal_ = {};
-        reap_idle_workers();
-        const size_t wanted = std::min<size_t>(static_cast<size_t>(std::max(1, run_.workers)), tasks.size());
-        if (workers_.size() < wanted) workers_.resize(wanted);
-        for (Worker& w : workers_) {
-            if (next_ >= tasks.size()) break;
-            if (w.pid < 0) spawn(w);
-            assign_next(w);
+        InOrderDelivery<HeldRecord> in_order([&](HeldRecord&& record) {
+            if (record.rejection) writer.append(*record.rejection);
+            else writer.append_record(record.type, record.version, record.payload);
+        });
+        in_order_ = &in_order;
+        try {
+            run_tasks(cancel);
+        } catch (...) {
+            // Every world already made is kept, whatever ends the run.
+            in_order.flush();
+            in_order_ = nullptr;
+            throw;
         }
-        while (next_ < tasks.size() || any_busy()) {
-            if (cancel.load()) {
-                stats_.worlds_cancelled += std::count_if(workers_.begin(), workers_.end(), [](const Worker& w) { return w.busy; });
-                for (Worker& w : workers_) stop(w);
-                break;
-            }
-            wait_for_workers();
-            enforce_time_limit();
-        }
+        in_order.flush();
+        in_order_ = nullptr;
         stats_.wall_time_s = std::chrono::duration<double>(Clock::now() - start).count();
         tasks_ = nullptr;
         return stats_;
@@ -95,6 +103,26 @@ public:
     const Refusal& refusal() const { return refusal_; }
 
 private:
+    void run_tasks(const std::atomic<bool>& cancel) {
+        reap_idle_workers();
+        const size_t wanted = std::min<size_t>(static_cast<size_t>(std::max(1, run_.workers)), tasks_->size());
+        if (workers_.size() < wanted) workers_.resize(wanted);
+        for (Worker& w : workers_) {
+            if (next_ >= tasks_->size()) break;
+            if (w.pid < 0) spawn(w);
+            assign_next(w);
+        }
+        while (next_ < tasks_->size() || any_busy()) {
+            if (cancel.load()) {
+                stats_.worlds_cancelled += std::count_if(workers_.begin(), workers_.end(), [](const Worker& w) { return w.busy; });
+                for (Worker& w : workers_) stop(w);
+                return;
+            }
+            wait_for_workers();
+            enforce_time_limit();
+        }
+    }
+
     // A worker stopped for a hang, or one that died while idle (its output ended), is not handed
     // a task: the world given to it would be blamed for its end.
     void reap_idle_workers() {
@@ -124,8 +152,15 @@ private:
         const pid_t pid = ::fork();
         if (pid < 0) fail("fork");
         if (pid == 0) {
-            ::dup2(to[0], STDIN_FILENO);
-            ::dup2(from[1], STDOUT_FILENO);
+            // Jobs and records travel on descriptors of their own. ODE and the C library print to
+            // standard output: in a worker that is the engine's standard error, the log.
+            const int jobs = ::fcntl(to[0], F_DUPFD, kWorkerRecordsFd + 1);
+            const int records = ::fcntl(from[1], F_DUPFD, kWorkerRecordsFd + 1);
+            const int nothing = ::open("/dev/null", O_RDONLY);
+            if (jobs < 0 || records < 0 || nothing < 0 || ::dup2(jobs, kWorkerJobsFd) < 0 ||
+                ::dup2(records, kWorkerRecordsFd) < 0 || ::dup2(nothing, STDIN_FILENO) < 0 ||
+                ::dup2(STDERR_FILENO, STDOUT_FILENO) < 0)
+                std::_Exit(127);
             ::execv(argv[0], argv.data());
             std::_Exit(127);
         }
@@ -140,6 +175,7 @@ private:
     // Hands the worker the next task, if any; an idle worker waits for the next run.
     void assign_next(Worker& w) {
         if (next_ >= tasks_->size()) return;
+        w.task = next_;
         const WorkerTask& task = (*tasks_)[next_++];
         w.world = task.world_index;
         w.busy = true;
@@ -197,9 +233,9 @@ private:
             refusal_ = {h.version == static_cast<uint32_t>(WorkerRefusal::NotReproduced),
                         std::string(payload.begin(), payload.end())};
             next_ = tasks_->size();
+            in_order_->skip(w.task);
             return;
         }
-        writer_->append_record(h.type, h.version, payload);
         std::string reason;
         if (h.type == kRecordTypeRejection) {
             reason = decode_rejection_record(payload.data(), payload.size(), "worker").reason;
@@ -209,6 +245,7 @@ private:
             ++stats_.worlds_ok;
         }
         slowest_s_ = std::max(slowest_s_, std::chrono::duration<double>(Clock::now() - w.started).count());
+        in_order_->arrive(w.task, {h.type, h.version, payload, std::nullopt});
         if (*on_world_) (*on_world_)(h.world_index, h.type == kRecordTypeWorld, reason);
         // A worker stopped for a hang just as it finished is not handed another world.
         if (w.fault.empty()) assign_next(w);
@@ -227,7 +264,7 @@ private:
             // scene, no library, no engine): every world would fail the same way, so the run stops.
             if (w.fault.empty() && WIFEXITED(status) && w.records == 0)
                 throw std::runtime_error("a simulation worker could not start (" + describe_exit(status) + ")");
-            reject(w.world, w.fault.empty() ? describe_exit(status) : w.fault);
+            reject(w.task, w.world, w.fault.empty() ? describe_exit(status) : w.fault);
         }
         if (next_ < tasks_->size()) {
             spawn(w);
@@ -235,13 +272,13 @@ private:
         }
     }
 
-    void reject(uint64_t world_index, const std::string& reason) {
+    void reject(size_t task, uint64_t world_index, const std::string& reason) {
         WorldResult world;
         world.world_index = world_index;
         world.seed = derive_world_seed(run_.base_seed, world_index);
         world.status = WorldStatus::Rejected;
         world.reject_reason = reason;
-        writer_->append(world);
+        in_order_->arrive(task, {0, 0, {}, std::move(world)});
         ++stats_.worlds_rejected;
         ++stats_.reject_reasons[reason];
         if (*on_world_) (*on_world_)(world_index, false, reason);
@@ -278,7 +315,7 @@ private:
     double slowest_s_ = 0;
     // The run under way.
     const std::vector<WorkerTask>* tasks_ = nullptr;
-    LibraryWriter* writer_ = nullptr;
+    InOrderDelivery<HeldRecord>* in_order_ = nullptr;  ///< records wait here to be written in task order
     const SupervisedWorldSink* on_world_ = nullptr;
     size_t next_ = 0;
     SamplingStatistics stats_;

@@ -27,8 +27,9 @@ struct SupervisedRun {
     double world_time_limit_s = 0;
 };
 
-/// Called in the supervisor's thread after each world's record was appended (or after a world
-/// was rejected for a fault); `reason` says why a rejected world was rejected.
+/// Called in the supervisor's thread as each world arrives (or is rejected for a fault), before
+/// its record may be appended: records are appended in task order; `reason` says why a rejected
+/// world was rejected.
 using SupervisedWorldSink = MadeWorldSink;
 
 /// One world for a worker: its index and the line that tells the worker what to simulate
@@ -50,7 +51,8 @@ public:
     WorkerPool(const WorkerPool&) = delete;
     WorkerPool& operator=(const WorkerPool&) = delete;
 
-    /// Runs `tasks`, appending each record to `writer` as it arrives (in completion order).
+    /// Runs `tasks`, appending their records to `writer` in the order of `tasks` whichever worker
+    /// finishes first (a reorder window), so that a re-run writes the same file.
     /// Setting `cancel` stops every worker at once; finished worlds stay stored. When a worker
     /// refuses a task (its parent does not come out as stored, or the refinement does not fit
     /// it), no further task is handed out and refusal() says why.

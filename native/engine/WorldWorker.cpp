@@ -7,7 +7,7 @@
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
-#include <iostream>
+#include <cstdio>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -28,8 +28,9 @@
 namespace mwb {
 namespace {
 
-// Test-only: MWB_ENGINE_TEST_FAULTS="3:abort,5:segv,7:hang" makes those worlds fail the way a
-// broken ODE can, so tests can check that a run survives them. Never set in production.
+// Test-only: MWB_ENGINE_TEST_FAULTS="3:abort,5:segv,7:hang,9:print,2:slow" makes those worlds fail
+// the way a broken ODE can (or print as ODE does, or finish late), so tests can check that a run survives them. Never set
+// in production.
 std::map<uint64_t, std::string> injected_faults() {
     std::map<uint64_t, std::string> faults;
     const char* spec = std::getenv("MWB_ENGINE_TEST_FAULTS");
@@ -48,6 +49,18 @@ std::map<uint64_t, std::string> injected_faults() {
 
 void fail_as_injected(const std::string& fault) {
     if (fault == "abort") std::abort();
+    // Finishing late, so that later worlds finish first: records must still come in world order.
+    if (fault == "slow") {
+        ::usleep(500000);
+        return;
+    }
+    // Text where a careless library would put it, mid-run: it must reach the log, not a record.
+    if (fault == "print") {
+        std::printf("WARNING: Polygon 0 is not defined counterclockwise\n");
+        std::fflush(stdout);
+        std::fprintf(stderr, "a library's message on standard error\n");
+        return;
+    }
     if (fault == "segv") std::raise(SIGSEGV);
     if (fault == "hang")
         for (;;) ::pause();
@@ -55,7 +68,7 @@ void fail_as_injected(const std::string& fault) {
 
 void write_all(const uint8_t* data, size_t size) {
     while (size > 0) {
-        const ssize_t n = ::write(STDOUT_FILENO, data, size);
+        const ssize_t n = ::write(kWorkerRecordsFd, data, size);
         if (n < 0 && errno == EINTR) continue;
         if (n <= 0) std::_Exit(3);  // the supervisor is gone: nothing left to do
         data += n;
@@ -64,6 +77,33 @@ void write_all(const uint8_t* data, size_t size) {
 }
 
 void put_u32(uint8_t* out, uint32_t v) { std::memcpy(out, &v, 4); }
+
+// The jobs the supervisor sends on kWorkerJobsFd, a line at a time.
+class JobLines {
+public:
+    JobLines() : in_(::fdopen(kWorkerJobsFd, "r")) {
+        if (!in_) throw std::runtime_error("a worker runs only under the engine's supervisor (no job channel)");
+    }
+    ~JobLines() {
+        std::free(buffer_);
+        std::fclose(in_);
+    }
+    JobLines(const JobLines&) = delete;
+    JobLines& operator=(const JobLines&) = delete;
+
+    bool next(std::string& line) {
+        const ssize_t n = ::getline(&buffer_, &capacity_, in_);
+        if (n <= 0) return false;
+        line.assign(buffer_, static_cast<size_t>(n));
+        if (!line.empty() && line.back() == '\n') line.pop_back();
+        return true;
+    }
+
+private:
+    std::FILE* in_;
+    char* buffer_ = nullptr;
+    size_t capacity_ = 0;
+};
 
 void send_record(uint64_t world_index, uint32_t type, uint32_t version, const std::vector<uint8_t>& payload) {
     uint8_t header[kWorkerRecordHeaderBytes];
@@ -121,8 +161,9 @@ int run_library_worker(const EngineOptions& options, const std::map<uint64_t, st
     LineageCache kept(std::max(kLeastWorkerLineageBytes, kWorkersLineageBytes / workers));
     // A refinement that changes the scene cannot use kept worlds; its children share one lineage.
     std::optional<std::pair<uint64_t, std::vector<WorldResult>>> changed_scene_lineage;
+    JobLines jobs;
     std::string line;
-    while (std::getline(std::cin, line)) {
+    while (jobs.next(line)) {
         const WorkerJob job = parse_worker_line(line);
         const auto fault = faults.find(job.world_index);
         if (!job.refined) {
@@ -176,8 +217,9 @@ int run_world_worker(const EngineOptions& options) {
     initialize_ode_once();
     // A worker lives for many worlds: the later ones share the first one's prefix.
     PrefixSharingSimulator simulator(compiled, options.base_seed, options.share_prefix);
+    JobLines jobs;
     std::string line;
-    while (std::getline(std::cin, line)) {
+    while (jobs.next(line)) {
         const WorkerJob job = parse_worker_line(line);
         const auto fault = faults.find(job.world_index);
         if (fault != faults.end()) fail_as_injected(fault->second);

@@ -15,6 +15,7 @@
 
 #include <omp.h>
 #ifndef _WIN32
+#include <sys/stat.h>
 #include <unistd.h>
 #ifdef __GLIBC__
 #include <malloc.h>
@@ -49,6 +50,9 @@ SamplingProgress g_progress;
 
 void request_cancel(int) { g_progress.cancel.store(true); }
 
+// How the engine was started (argv[0]), for finding itself without /proc.
+std::string g_invoked_as;
+
 #ifdef _WIN32
 // Worker processes need fork: on Windows every world is simulated in the engine's own process,
 // as with --in-process (a world that crashes ODE ends the run there).
@@ -56,12 +60,37 @@ constexpr bool kWorkerProcesses = false;
 #else
 constexpr bool kWorkerProcesses = true;
 
-// The engine executable itself, for its worker processes.
+bool is_executable_file(const std::string& path) {
+    struct stat st {};
+    return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) && ::access(path.c_str(), X_OK) == 0;
+}
+
+// The engine executable itself, for its worker processes: /proc/self/exe, else argv[0] as a
+// path or looked up on PATH as the shell did (a chroot without /proc). Empty when neither works.
 std::string own_executable() {
     char path[4096];
     const ssize_t n = ::readlink("/proc/self/exe", path, sizeof path - 1);
-    if (n <= 0) throw std::runtime_error("cannot find the engine executable (/proc/self/exe)");
-    return std::string(path, static_cast<size_t>(n));
+    if (n > 0) return std::string(path, static_cast<size_t>(n));
+    if (g_invoked_as.find('/') != std::string::npos)
+        return is_executable_file(g_invoked_as) ? g_invoked_as : std::string();
+    const char* search = std::getenv("PATH");
+    std::istringstream dirs(search ? search : "");
+    for (std::string dir; std::getline(dirs, dir, ':');) {
+        const std::string candidate = (dir.empty() ? "." : dir) + "/" + g_invoked_as;
+        if (!g_invoked_as.empty() && is_executable_file(candidate)) return candidate;
+    }
+    return {};
+}
+
+// The engine executable for worker processes, or empty (with one warning) when it cannot be
+// found: the worlds are then simulated in this process, as with --in-process.
+std::string executable_for_workers(EngineEvents& events) {
+    std::string path = own_executable();
+    if (path.empty())
+        events.warning(EngineWarningCode::InProcess,
+                       "cannot find the engine executable (no /proc, and '" + g_invoked_as +
+                           "' is not on PATH): worlds are simulated in this process, where one that crashes ODE ends the run");
+    return path;
 }
 #endif
 
@@ -76,11 +105,14 @@ void listen_for_cancel(const EngineOptions& options) {
 // Where a refinement's or a search's worlds are simulated: each in a supervised worker process
 // reading the library, so that one that crashes ODE is rejected and the rest go on; with
 // --in-process (and on Windows) on this process's threads.
-std::unique_ptr<WorldMaker> world_maker(const EngineOptions& options, uint64_t base_seed, size_t cache_bytes) {
+std::unique_ptr<WorldMaker> world_maker(const EngineOptions& options, uint64_t base_seed, size_t cache_bytes,
+                                        EngineEvents& events) {
     if (options.in_process || !kWorkerProcesses) return std::make_unique<InProcessWorlds>(options.threads, cache_bytes);
 #ifndef _WIN32
+    const std::string engine = executable_for_workers(events);
+    if (engine.empty()) return std::make_unique<InProcessWorlds>(options.threads, cache_bytes);
     const int workers = options.threads > 0 ? options.threads : omp_get_max_threads();
-    SupervisedRun run{own_executable(), {"worker", "--library", options.library_path, "--threads", std::to_string(workers)},
+    SupervisedRun run{engine, {"worker", "--library", options.library_path, "--threads", std::to_string(workers)},
                       workers, base_seed, options.world_time_limit_s};
     return std::make_unique<SupervisedWorlds>(std::move(run));
 #else
@@ -122,7 +154,11 @@ int run_sample(const EngineOptions& options, [[maybe_unused]] const std::vector<
         events.progress(finished, todo.size(), {}, worlds_done_text("sampled", finished, todo.size()));
     };
     SamplingStatistics stats;
-    if (options.in_process || !kWorkerProcesses) {
+    std::string engine;
+#ifndef _WIN32
+    if (!options.in_process) engine = executable_for_workers(events);
+#endif
+    if (engine.empty()) {
         stats = sample_world_list(
             compiled, options.base_seed, todo, options.threads,
             [&](WorldResult&& world) {
@@ -134,7 +170,7 @@ int run_sample(const EngineOptions& options, [[maybe_unused]] const std::vector<
     } else {
 #ifndef _WIN32
         // Each world in a worker process: a world that crashes ODE is rejected, the run goes on.
-        SupervisedRun run{own_executable(), args, options.threads > 0 ? options.threads : omp_get_max_threads(),
+        SupervisedRun run{engine, args, options.threads > 0 ? options.threads : omp_get_max_threads(),
                           options.base_seed, options.world_time_limit_s};
         run.worker_args[0] = "worker";
         stats = sample_supervised(run, todo, writer, report, g_progress.cancel);
@@ -194,7 +230,7 @@ int run_refine(const EngineOptions& options, EngineEvents& events) {
     LibraryWriter writer(options.library_path, reader.header());
     listen_for_cancel(options);
     uint64_t finished = 0;
-    const std::unique_ptr<WorldMaker> maker = world_maker(options, reader.header().base_seed, 0);
+    const std::unique_ptr<WorldMaker> maker = world_maker(options, reader.header().base_seed, 0, events);
     const RefineOutcome outcome = refine_stored_world(
         reader, request, writer, *maker,
         [&](uint64_t world_index, bool stored, const std::string& reason) {
@@ -274,7 +310,7 @@ int run_seek(const EngineOptions& options, EngineEvents& events) {
     request.threads = options.threads;
     listen_for_cancel(options);
     const std::unique_ptr<WorldMaker> maker =
-        world_maker(options, read_run_header(options.library_path).base_seed, request.cache_bytes);
+        world_maker(options, read_run_header(options.library_path).base_seed, request.cache_bytes, events);
     const SeekOutcome outcome = seek_goal(
         options.library_path, request,
         [&](const SeekStatus& s) {
@@ -446,6 +482,7 @@ void keep_large_blocks_in_heap() {
 int main(int argc, char** argv) {
     keep_large_blocks_in_heap();
     const std::vector<std::string> args(argv + 1, argv + argc);
+    if (argc > 0) mwb::g_invoked_as = argv[0];
     auto given = [&](const char* flag) { return std::find(args.begin(), args.end(), flag) != args.end(); };
     // A worker's standard output carries its records to the supervisor, never events.
     const bool worker = !args.empty() && args[0] == "worker";

@@ -7,6 +7,7 @@ The JSON files are committed; this script is how they were made and how to chang
 import json
 import math
 import os
+import struct
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 BENCH = os.path.join(os.path.dirname(HERE), "bench")
@@ -150,6 +151,106 @@ def chain(links=10):
     return scene("chain", bodies, constraints, frame_end=121)
 
 
+def f32(x):
+    """A coordinate as Blender stores it (32-bit float)."""
+    return struct.unpack("f", struct.pack("f", x))[0]
+
+
+def hull(points):
+    return {"type": "CONVEX_HULL", "vertices_m": [f32(c) for p in points for c in p]}
+
+
+def cube_points(half):
+    return [(sx * half, sy * half, sz * half) for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]
+
+
+def uv_sphere_points(radius, segments=32, rings=16):
+    points = [(0, 0, radius), (0, 0, -radius)]
+    for j in range(1, rings):
+        theta = math.pi * j / rings
+        for i in range(segments):
+            phi = 2 * math.pi * i / segments
+            points.append((radius * math.sin(theta) * math.cos(phi), radius * math.sin(theta) * math.sin(phi),
+                           radius * math.cos(theta)))
+    return points
+
+
+def cylinder_points(radius, depth, segments=32):
+    return [(radius * math.cos(2 * math.pi * i / segments), radius * math.sin(2 * math.pi * i / segments), z)
+            for z in (-depth / 2, depth / 2) for i in range(segments)]
+
+
+def lathed_bottle_points(segments=16, rings=40):
+    """A bottle as Spin makes it from a profile: each ring closes on a duplicate of its first vertex
+    (the seam), the profile starts and ends on the axis, and the origin is at the base."""
+    points = [(0, 0, 0)]
+    for k in range(rings + 1):
+        z = 0.3 * k / rings
+        shoulder = math.cos(min(1.0, max(0.0, (z - 0.15) / 0.08)) * math.pi / 2)
+        r = 0.04 + z if z < 0.01 else 0.015 + 0.035 * shoulder * shoulder
+        points += [(r * math.cos(2 * math.pi * i / segments), r * math.sin(2 * math.pi * i / segments), z)
+                   for i in range(segments + 1)]
+    return points + [(0, 0, 0.3)]
+
+
+def voronoi_cells(half, seeds):
+    """Cell Fracture's pieces of a box: each seed's Voronoi cell, as (centre, corners about it)."""
+    cells = []
+    for s in seeds:
+        planes = [(n, half[a]) for a in range(3) for n in ([1 if k == a else 0 for k in range(3)],
+                                                              [-1 if k == a else 0 for k in range(3)])]
+        for o in seeds:
+            if o is s:
+                continue
+            n = [o[k] - s[k] for k in range(3)]
+            planes.append((n, sum(n[k] * (o[k] + s[k]) / 2 for k in range(3))))
+        corners = []
+        for i in range(len(planes)):
+            for j in range(i + 1, len(planes)):
+                for k in range(j + 1, len(planes)):
+                    m = [planes[i][0], planes[j][0], planes[k][0]]
+                    det = (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+                           + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]))
+                    if abs(det) < 1e-12:
+                        continue
+                    d = [planes[i][1], planes[j][1], planes[k][1]]
+                    x = []
+                    for c in range(3):
+                        mc = [[d[r] if col == c else m[r][col] for col in range(3)] for r in range(3)]
+                        x.append((mc[0][0] * (mc[1][1] * mc[2][2] - mc[1][2] * mc[2][1])
+                                  - mc[0][1] * (mc[1][0] * mc[2][2] - mc[1][2] * mc[2][0])
+                                  + mc[0][2] * (mc[1][0] * mc[2][1] - mc[1][1] * mc[2][0])) / det)
+                    if all(sum(n[q] * x[q] for q in range(3)) <= dist + 1e-9 for n, dist in planes):
+                        corners.append(x)
+        lo = [min(c[q] for c in corners) for q in range(3)]
+        hi = [max(c[q] for c in corners) for q in range(3)]
+        centre = [(lo[q] + hi[q]) / 2 for q in range(3)]
+        cells.append((centre, [[c[q] - centre[q] for q in range(3)] for c in corners]))
+    return cells
+
+
+def blender_defaults():
+    """A scene as an animator builds it from Blender's defaults: every active body at the default
+    shape (Convex Hull) with float coordinates, a Plane as passive MESH, a lathed bottle, and a
+    Cell Fracture wall of a cube, knocked over by a UV sphere."""
+    plane = {"type": "MESH", "vertices_m": [-10, -10, 0, 10, -10, 0, -10, 10, 0, 10, 10, 0], "triangles": [0, 1, 3, 0, 3, 2]}
+    bodies = [body("Plane", plane, (0, 0, 0), "PASSIVE")]
+    for i in range(6):
+        bodies.append(body("Cube" if i == 0 else f"Cube.{i:03d}", hull(cube_points(0.25)),
+                           (-1.5 + 0.6 * (i % 3), 1.2 + 0.6 * (i // 3), 0.25 + 0.6 * (i % 2)), variation=tumble(0.05, 1)))
+    bodies.append(body("Sphere", hull(uv_sphere_points(0.3)), (-2.5, 0, 0.3), initial_linear_velocity=[6, 0, 0],
+                       variation={"location_min_m": [0, -0.2, 0], "location_max_m": [0, 0.2, 0]}))
+    bodies.append(body("Sphere.001", hull(uv_sphere_points(0.2)), (1.5, 1.5, 2.0), variation=tumble(0.3, 2)))
+    bodies.append(body("Cylinder", hull(cylinder_points(0.2, 0.5)), (1.5, -1.5, 0.25), variation=tumble(0.05, 1)))
+    for i in range(3):
+        bodies.append(body(f"Bottle.{i:03d}", hull(lathed_bottle_points()), (1.2 + 0.25 * i, 0.2, 0.0)))
+    rng_seeds = [(-0.35, -0.05, -0.3), (0.1, 0.05, -0.35), (0.3, -0.05, -0.1), (-0.2, 0.0, 0.05),
+                 (0.25, 0.05, 0.3), (-0.3, -0.05, 0.35), (0.0, 0.0, 0.2), (-0.05, 0.05, -0.05)]
+    for k, (centre, corners) in enumerate(voronoi_cells((0.5, 0.1, 0.5), rng_seeds)):
+        bodies.append(body(f"Wall_cell.{k:03d}", hull(corners), (centre[0], centre[1] - 0.5, centre[2] + 0.5)))
+    return scene("blender_defaults", bodies, frame_end=73)
+
+
 def write(path, data):
     with open(path, "w") as f:
         json.dump(data, f, indent=1)
@@ -159,5 +260,6 @@ def write(path, data):
 if __name__ == "__main__":
     write(os.path.join(HERE, "quickstart.json"), quickstart())
     write(os.path.join(HERE, "all_shapes_and_joints.json"), all_shapes_and_joints())
+    write(os.path.join(HERE, "blender_defaults.json"), blender_defaults())
     write(os.path.join(BENCH, "pile50.json"), pile(50))
     write(os.path.join(BENCH, "chain.json"), chain(10))

@@ -20,6 +20,7 @@ const char* engine_warning_code_name(EngineWarningCode code) {
         case EngineWarningCode::Repaired: return "repaired";
         case EngineWarningCode::OtherBuild: return "other_build";
         case EngineWarningCode::Merge: return "merge";
+        case EngineWarningCode::InProcess: return "in_process";
     }
     return "merge";
 }
@@ -37,7 +38,7 @@ std::vector<std::string> engine_error_code_names() {
 
 std::vector<std::string> engine_warning_code_names() {
     std::vector<std::string> names;
-    for (int c = 0; c <= static_cast<int>(EngineWarningCode::Merge); ++c)
+    for (int c = 0; c <= static_cast<int>(EngineWarningCode::InProcess); ++c)
         names.push_back(engine_warning_code_name(static_cast<EngineWarningCode>(c)));
     return names;
 }

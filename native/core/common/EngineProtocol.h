@@ -46,6 +46,7 @@ enum class EngineWarningCode {
     Repaired,     ///< the library's torn last record was cut off before appending
     OtherBuild,   ///< the library was sampled by another engine build
     Merge,        ///< something merging libraries noticed
+    InProcess,    ///< no worker process could be started: worlds are simulated in the engine's own
 };
 
 const char* engine_error_code_name(EngineErrorCode code);

@@ -3,9 +3,11 @@
 #include <omp.h>
 
 #include <chrono>
+#include <condition_variable>
 #include <exception>
 #include <mutex>
 
+#include "sampler/InOrderDelivery.h"
 #include "sim/OdeWorld.h"
 #include "sim/SharedPrefix.h"
 #include "sim/WorldSimulator.h"
@@ -24,8 +26,13 @@ namespace {
 
 int thread_count_for(int threads) { return threads > 0 ? threads : omp_get_max_threads(); }
 
+// Worlds a thread may run ahead of the first one not yet delivered, per thread: bounds the
+// finished worlds held for the reorder window (a staircase world is 30 MB) when one is slow.
+constexpr size_t kWindowWorldsPerThread = 8;
+
 // Runs make_world(k, cancel, thread) for k in [0, count) on `threads` threads and delivers each
-// result in completion order, never concurrently; the statistics count every outcome.
+// result in the order of k (a reorder window), never concurrently; the statistics count every
+// outcome.
 template <typename MakeWorld>
 SamplingStatistics run_parallel(size_t count, int threads, const WorldSink& sink, SamplingProgress* progress,
                                 MakeWorld make_world) {
@@ -33,25 +40,13 @@ SamplingStatistics run_parallel(size_t count, int threads, const WorldSink& sink
     initialize_ode_once();
     SamplingStatistics stats;
     std::mutex sink_mutex;
+    std::condition_variable delivered;
     std::exception_ptr sink_error;
     std::atomic<bool> stop_for_error{false};
     const std::atomic<bool>* cancel = progress ? &progress->cancel : nullptr;
     const int thread_count = thread_count_for(threads);
-    const auto total = static_cast<long long>(count);
-    // Dynamic scheduling: world lengths vary a lot (early rest, rejections).
-#pragma omp parallel for num_threads(thread_count) schedule(dynamic, 1)
-    for (long long k = 0; k < total; ++k) {
-        if ((cancel && cancel->load(std::memory_order_relaxed)) || stop_for_error.load()) continue;
-        WorldResult world = make_world(static_cast<size_t>(k), cancel, omp_get_thread_num());
-        std::lock_guard<std::mutex> lock(sink_mutex);
-        switch (world.status) {
-            case WorldStatus::Ok: ++stats.worlds_ok; break;
-            case WorldStatus::Rejected:
-                ++stats.worlds_rejected;
-                ++stats.reject_reasons[world.reject_reason];
-                break;
-            case WorldStatus::Cancelled: ++stats.worlds_cancelled; break;
-        }
+    const size_t window = kWindowWorldsPerThread * static_cast<size_t>(thread_count);
+    InOrderDelivery<WorldResult> in_order([&](WorldResult&& world) {
         // An exception must not escape an OpenMP region; stop the run and rethrow after it.
         try {
             if (!sink_error) sink(std::move(world));
@@ -59,7 +54,36 @@ SamplingStatistics run_parallel(size_t count, int threads, const WorldSink& sink
             sink_error = std::current_exception();
             stop_for_error = true;
         }
-        if (progress) progress->worlds_done.fetch_add(1, std::memory_order_relaxed);
+    });
+    const auto total = static_cast<long long>(count);
+    // Dynamic scheduling: world lengths vary a lot (early rest, rejections). Worlds are handed out
+    // in order, so the one every waiting thread waits for is always running.
+#pragma omp parallel for num_threads(thread_count) schedule(dynamic, 1)
+    for (long long k = 0; k < total; ++k) {
+        const auto position = static_cast<size_t>(k);
+        {
+            std::unique_lock<std::mutex> lock(sink_mutex);
+            delivered.wait(lock, [&] { return position < in_order.next() + window; });
+        }
+        WorldResult world;
+        const bool skipped = (cancel && cancel->load(std::memory_order_relaxed)) || stop_for_error.load();
+        if (!skipped) world = make_world(position, cancel, omp_get_thread_num());
+        std::lock_guard<std::mutex> lock(sink_mutex);
+        if (skipped) {
+            in_order.skip(position);
+        } else {
+            switch (world.status) {
+                case WorldStatus::Ok: ++stats.worlds_ok; break;
+                case WorldStatus::Rejected:
+                    ++stats.worlds_rejected;
+                    ++stats.reject_reasons[world.reject_reason];
+                    break;
+                case WorldStatus::Cancelled: ++stats.worlds_cancelled; break;
+            }
+            if (progress) progress->worlds_done.fetch_add(1, std::memory_order_relaxed);
+            in_order.arrive(position, std::move(world));
+        }
+        delivered.notify_all();
     }
     if (sink_error) std::rethrow_exception(sink_error);
     stats.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -27,7 +27,8 @@ struct SamplingProgress {
 };
 
 /// Called once per finished world (Ok, Rejected or Cancelled), from a worker thread, never
-/// concurrently with itself; worlds arrive in completion order, not index order.
+/// concurrently with itself; worlds come in the order they were asked for, whichever finished
+/// first, so that a library written from them is the same file on any thread count.
 using WorldSink = std::function<void(WorldResult&&)>;
 
 /// Simulates worlds [first_world, first_world + world_count) of the run seeded by `base_seed` on
