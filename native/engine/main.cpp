@@ -245,11 +245,13 @@ int run_refine(const EngineOptions& options, EngineEvents& events) {
          << describe_change(options, outcome, reader.header().parameters.record_hz) << " into worlds "
          << outcome.first_child << ".." << outcome.first_child + options.world_count - 1 << ": " << stats.worlds_ok
          << " stored, " << stats.worlds_rejected << " rejected in " << stats.wall_time_s << " s";
+    for (const auto& [reason, count] : stats.reject_reasons) text << "\n  rejected " << count << ": " << reason;
     events.summary({{"parent", options.parent_world},
                     {"first_child", outcome.first_child},
                     {"count", options.world_count},
                     {"stored", stats.worlds_ok},
                     {"rejected", stats.worlds_rejected},
+                    {"reject_reasons", stats.reject_reasons},
                     {"cancelled", bool(g_progress.cancel)},
                     {"seconds", stats.wall_time_s}},
                    text.str());
@@ -275,7 +277,9 @@ std::string parts_word(const std::vector<QueryBox>& goal) {
 std::string seek_outcome_text(const EngineOptions& options, const SeekOutcome& outcome, const std::string& parts) {
     std::ostringstream made;
     made.precision(1);
-    made << std::fixed << " (" << with_commas(outcome.worlds_made) << " worlds made in " << outcome.seconds << " s)";
+    made << std::fixed << " (" << with_commas(outcome.worlds_made) << " worlds made in " << outcome.seconds << " s";
+    if (outcome.worlds_rejected > 0) made << ", " << with_commas(outcome.worlds_rejected) << " of them rejected";
+    made << ")";
     std::ostringstream text;
     if (outcome.reached) {
         text << "seek: " << outcome.found.size() << (outcome.found.size() == 1 ? " world meets" : " worlds meet")
@@ -288,6 +292,7 @@ std::string seek_outcome_text(const EngineOptions& options, const SeekOutcome& o
         if (!outcome.found.empty()) text << " (" << outcome.found.size() << " of " << options.want << " wanted found)";
     }
     text << made.str();
+    for (const auto& [reason, count] : outcome.reject_reasons) text << "\n  rejected " << count << ": " << reason;
     return text.str();
 }
 
@@ -311,27 +316,46 @@ int run_seek(const EngineOptions& options, EngineEvents& events) {
     listen_for_cancel(options);
     const std::unique_ptr<WorldMaker> maker =
         world_maker(options, read_run_header(options.library_path).base_seed, request.cache_bytes, events);
+    // Progress goes out as each world arrives, not only after each batch: a batch of slow worlds
+    // still shows the count moving. The best world is the last batch's.
+    SeekStatus last;
+    uint64_t arrived_since_status = 0;
+    auto report = [&](const SeekStatus& s) {
+        std::ostringstream text;
+        text << "seek: best " << s.best_boxes_met << " of " << s.box_count << parts << " (world " << s.best_world
+             << "), " << with_commas(s.worlds_made) << " worlds made";
+        events.progress(s.worlds_made, options.budget_worlds,
+                        {{"seek",
+                          {{"boxes_met", s.best_boxes_met},
+                           {"box_count", s.box_count},
+                           {"worlds_made", s.worlds_made},
+                           {"worlds_rejected", s.worlds_rejected},
+                           {"best_world", s.best_world},
+                           {"worlds_meeting_goal", s.worlds_meeting_goal}}}},
+                        text.str());
+    };
     const SeekOutcome outcome = seek_goal(
         options.library_path, request,
         [&](const SeekStatus& s) {
-            std::ostringstream text;
-            text << "seek: best " << s.best_boxes_met << " of " << s.box_count << parts << " (world " << s.best_world
-                 << "), " << with_commas(s.worlds_made) << " worlds made";
-            events.progress(s.worlds_made, options.budget_worlds,
-                            {{"seek",
-                              {{"boxes_met", s.best_boxes_met},
-                               {"box_count", s.box_count},
-                               {"worlds_made", s.worlds_made},
-                               {"best_world", s.best_world},
-                               {"worlds_meeting_goal", s.worlds_meeting_goal}}}},
-                            text.str());
+            last = s;
+            arrived_since_status = 0;
+            report(s);
         },
-        &g_progress, maker.get());
+        &g_progress, maker.get(),
+        [&](uint64_t world_index, bool stored, const std::string& reason) {
+            events.world(world_index, stored, reason);
+            SeekStatus now = last;
+            now.worlds_made += ++arrived_since_status;
+            now.worlds_rejected += stored ? 0 : 1;
+            last.worlds_rejected = now.worlds_rejected;
+            report(now);
+        });
     const nlohmann::json fields{{"reached", outcome.reached},         {"found", outcome.found},
                                 {"best", outcome.best_world},         {"best_boxes_met", outcome.best_boxes_met},
                                 {"boxes", outcome.box_count},         {"worlds_made", outcome.worlds_made},
                                 {"refinements", outcome.refinements}, {"seconds", outcome.seconds},
-                                {"cancelled", outcome.cancelled}};
+                                {"cancelled", outcome.cancelled},     {"rejected", outcome.worlds_rejected},
+                                {"reject_reasons", outcome.reject_reasons}};
     events.summary(fields, options.json ? fields.dump() : seek_outcome_text(options, outcome, parts));
     return exit_status(outcome.cancelled);
 }

@@ -119,6 +119,21 @@ def test_seek_summary_says_how_many_were_wanted_and_names_a_single_box():
     assert engine.seek_progress_text(engine.SeekProgress(0, 1, 8, -1, 0)) == "best 0 of 1 box, 8 worlds made"
 
 
+def test_a_seek_that_lost_worlds_says_how_many_and_why_commonest_first():
+    lost = engine.SeekOutcome.from_summary({
+        "reached": False, "found": [], "best": 418, "best_boxes_met": 5, "boxes": 6, "worlds_made": 2000,
+        "seconds": 80.0, "rejected": 11, "reject_reasons": {"the simulation crashed (signal 11, Segmentation fault)": 1,
+                                                            "the simulation did not finish within 120 s": 8,
+                                                            "a body flew off (faster than 100 m/s)": 2}})
+    assert engine.seek_outcome_text(lost, 1) == (
+        "Budget spent: best world 418 meets 5 of 6 boxes; 2,000 worlds made in 80.0 s, 11 rejected "
+        "(8: the simulation did not finish within 120 s; 2: a body flew off (faster than 100 m/s); "
+        "1 for another reason)")
+    progress = engine.SeekProgress(0, 1, 24, -1, 0, worlds_rejected=8)
+    assert engine.seek_progress_text(progress) == "best 0 of 1 box, 24 worlds made (8 rejected)"
+    assert engine.rejections_text(0, ()) == ""
+
+
 def test_worlds_meeting_an_orientation_goal_are_those_whose_recorded_rotations_keep_within_it(native, engine,
                                                                                               tmp_path):
     """An orientation part, "the die's top stays within N degrees of up over the last second", is

@@ -162,6 +162,7 @@ class SeekProgress:
     worlds_made: int        # by this seek so far
     best_world: int         # -1 while there is none
     worlds_meeting_goal: int
+    worlds_rejected: int = 0  # of worlds_made
 
 
 @dataclass(frozen=True)
@@ -174,6 +175,8 @@ class SeekOutcome:
     boxes: int
     worlds_made: int
     seconds: float
+    rejected: int = 0                  # of worlds_made
+    reject_reasons: Tuple[Tuple[str, int], ...] = ()  # (why, how many), most first
 
     @classmethod
     def from_summary(cls, fields):
@@ -183,7 +186,8 @@ class SeekOutcome:
         return cls(reached=bool(fields["reached"]), found=tuple(int(w) for w in fields["found"]),
                    best=int(fields["best"]), best_boxes_met=int(fields["best_boxes_met"]),
                    boxes=int(fields["boxes"]), worlds_made=int(fields["worlds_made"]),
-                   seconds=float(fields["seconds"]))
+                   seconds=float(fields["seconds"]), rejected=int(fields.get("rejected", 0)),
+                   reject_reasons=sorted_reasons(fields.get("reject_reasons", {})))
 
 
 @dataclass(frozen=True)
@@ -195,6 +199,24 @@ class EngineFailure:
     problems: Tuple[str, ...] = ()
 
 
+def sorted_reasons(reasons):
+    """A summary's reject_reasons ({why: how many}) as ((why, how many), ...), most first."""
+    return tuple(sorted(((str(why), int(count)) for why, count in reasons.items()), key=lambda r: (-r[1], r[0])))
+
+
+def rejections_text(rejected, reasons, shown=2):
+    """'8 rejected (8: the simulation did not finish within 120 s)', the commonest reasons first;
+    '' when nothing was rejected."""
+    if not rejected:
+        return ""
+    parts = [f"{count}: {why}" for why, count in reasons[:shown]]
+    if len(reasons) > shown:
+        others = len(reasons) - shown
+        why = "another reason" if others == 1 else f"{others} other reasons"
+        parts.append(f"{sum(count for _, count in reasons[shown:])} for {why}")
+    return f"{rejected:,} rejected" + (f" ({'; '.join(parts)})" if parts else "")
+
+
 def _boxes(count):
     return "1 box" if count == 1 else f"{count} boxes"
 
@@ -204,6 +226,8 @@ def seek_progress_text(progress):
     best = f" (world {progress.best_world})" if progress.best_world >= 0 else ""
     text = (f"best {progress.boxes_met} of {_boxes(progress.box_count)}{best}, "
             f"{progress.worlds_made:,} worlds made")
+    if progress.worlds_rejected:
+        text += f" ({progress.worlds_rejected:,} rejected)"
     if progress.worlds_meeting_goal:
         text += f", {progress.worlds_meeting_goal:,} meet all"
     return text
@@ -218,6 +242,9 @@ def seek_outcome_text(outcome, want):
     """One line on how a seek ended, e.g. 'Goal reached: 3 worlds meet all 6 boxes (412, 415, 430);
     1,204 worlds made in 61.2 s' or 'Budget spent: best world 418 meets 5 of 6 boxes; ...'."""
     made = f"{outcome.worlds_made:,} worlds made in {outcome.seconds:.1f} s"
+    lost = rejections_text(outcome.rejected, outcome.reject_reasons)
+    if lost:
+        made += f", {lost}"
     found = list(outcome.found)
     noun = "world meets" if len(found) == 1 else "worlds meet"
     every = "the box" if outcome.boxes == 1 else f"all {outcome.boxes} boxes"
@@ -273,7 +300,8 @@ class EngineRun:
         if "seek" in event:
             s = event["seek"]
             state.seek = SeekProgress(int(s["boxes_met"]), int(s["box_count"]), int(s["worlds_made"]),
-                                      int(s["best_world"]), int(s["worlds_meeting_goal"]))
+                                      int(s["best_world"]), int(s["worlds_meeting_goal"]),
+                                      int(s.get("worlds_rejected", 0)))
 
     def _on_world(self, state, event):
         state.last_world = int(event["index"])

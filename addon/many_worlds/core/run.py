@@ -76,6 +76,10 @@ class Run:
     def summary(self):
         return self.process.summary()
 
+    def warnings(self):
+        """What the engine warned of (a repaired library, workers it could not start)."""
+        return self.process.warnings()
+
     def cancel(self):
         self.process.cancel()
 
@@ -91,10 +95,14 @@ class Run:
         return f"{self.label}: {done} / {total} worlds"
 
     def finished_text(self, stored):
-        """The panel's line once it reached its end; `stored`: worlds the library holds now."""
-        done = self.progress()[0]
-        made = FINISHED_TEXT.get(self.kind, "{done} new worlds").format(done=done)
-        return f"{made}{self.note}; the library holds {stored}"
+        """The panel's line once it reached its end; `stored`: worlds the library holds now. It
+        counts the worlds the run stored, and says how many it lost and why."""
+        summary = self.summary() or {}
+        rejected = int(summary.get("rejected", 0))
+        kept = int(summary["stored"]) if "stored" in summary else self.progress()[0] - rejected
+        made = FINISHED_TEXT.get(self.kind, "{done} new worlds").format(done=kept)
+        lost = engine_process.rejections_text(rejected, engine_process.sorted_reasons(summary.get("reject_reasons", {})))
+        return f"{made}{'; ' + lost if lost else ''}{self.note}; the library holds {stored}"
 
     def cancelled_text(self, stored):
         return f"{self.label} cancelled; the library keeps {stored} worlds"

@@ -12,6 +12,7 @@ class Session:
         self.runs = []          # core.run.Run, oldest first; at most the last one is still running
         self.status = ""        # one line for the panel and status bar
         self.last_error = ""    # engine failure text, shown as a report
+        self.run_warnings = []  # what the last run's engine warned of, reported when it ends
         self.export_warnings = []    # what the last export could not reproduce, one line per object and setting
 
     @property

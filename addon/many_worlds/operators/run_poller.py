@@ -35,6 +35,7 @@ def start_run(scene, kind, request, library, status, note="", follower=None, wor
               engine=engine)
     SESSION.runs.append(run)
     SESSION.last_error = ""
+    SESSION.run_warnings = []
     SESSION.status = status
     if not bpy.app.timers.is_registered(poll_run):
         bpy.app.timers.register(poll_run, first_interval=POLL_INTERVAL_S)
@@ -89,6 +90,9 @@ def poll_run():
         return POLL_INTERVAL_S
     stored = len(SESSION.view.world_indices) if SESSION.view else 0
     SESSION.status = _ended_text(scene, run, stored)
+    SESSION.run_warnings = run.warnings()
+    for line in SESSION.run_warnings:
+        print(f"Many Worlds: warning: {line}", file=sys.stderr)
     if SESSION.last_error:
         print(f"Many Worlds: {SESSION.status}", file=sys.stderr)
     run.ended = True
@@ -140,6 +144,8 @@ class FollowsRun:
         if SESSION.run is not None:
             return {"PASS_THROUGH"}
         context.window_manager.event_timer_remove(self._timer)
+        for line in SESSION.run_warnings:
+            self.report({"WARNING"}, line)
         if SESSION.last_error:
             self.report({"ERROR"}, SESSION.last_error)
         else:

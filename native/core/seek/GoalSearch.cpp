@@ -49,9 +49,10 @@ constexpr uint64_t kBrokenFamilyWorlds = 64;
 class GoalSearch {
 public:
     GoalSearch(const std::string& path, const SeekRequest& request, const SeekListener& on_status,
-               SamplingProgress* progress, WorldMaker* maker)
+               SamplingProgress* progress, WorldMaker* maker, const MadeWorldSink& on_world)
         : request_(request),
           on_status_(on_status),
+          on_world_(on_world),
           progress_(progress ? progress : &own_progress_),
           reader_(path, ReaderOptions{false, kPolylineHz}),
           writer_(path, reader_.header()),
@@ -139,13 +140,14 @@ private:
         refine.threads = request_.threads;
         RefineOutcome outcome;
         try {
-            outcome = refine_stored_world(reader_, refine, writer_, maker_, {}, progress_);
+            outcome = refine_stored_world(reader_, refine, writer_, maker_, on_world_, progress_);
         } catch (const WorldNotReproduced&) {
             throw;  // another build's library: no branch point of it can be refined here
         } catch (const RefineError&) {
             return;  // this branch point does not fit (e.g. a body that is not simulated there); others may
         }
         made_ += refine.count;
+        count_rejections(outcome.statistics);
         refined_worlds_ += refine.count;
         ++refinements_;
         const double parts_before = std::floor(worlds_->best_value());
@@ -230,9 +232,14 @@ private:
         const CompiledScene compiled(scene_from_json(header.scene_json), header.parameters);
         std::vector<uint64_t> indices;
         for (uint64_t k = 0; k < count; ++k) indices.push_back(reader_.next_world_index() + k);
-        maker_.sample(compiled, header.base_seed, indices, writer_, {}, progress_);
+        count_rejections(maker_.sample(compiled, header.base_seed, indices, writer_, on_world_, progress_));
         made_ += count;
         // Worlds sampled now are new candidates; spent ones stay spent.
+    }
+
+    void count_rejections(const SamplingStatistics& made) {
+        rejected_ += made.worlds_rejected;
+        for (const auto& [reason, count] : made.reject_reasons) reject_reasons_[reason] += count;
     }
 
     SeekStatus status() const {
@@ -244,6 +251,7 @@ private:
             s.best_boxes_met = worlds_->score(s.best_world).boxes_met;
         }
         s.worlds_made = made_;
+        s.worlds_rejected = rejected_;
         s.worlds_meeting_goal = worlds_->found().size();
         s.seconds = elapsed();
         return s;
@@ -261,11 +269,15 @@ private:
         out.found.assign(worlds_->found().begin(), worlds_->found().end());
         if (!worlds_->empty()) out.best_score = worlds_->score(worlds_->best_world());
         out.refinements = refinements_;
+        out.reject_reasons = reject_reasons_;
         return out;
     }
 
     SeekRequest request_;
     SeekListener on_status_;
+    MadeWorldSink on_world_;
+    uint64_t rejected_ = 0;
+    std::map<std::string, uint64_t> reject_reasons_;
     SamplingProgress own_progress_;
     SamplingProgress* progress_;
     LibraryReader reader_;
@@ -296,8 +308,8 @@ std::vector<uint64_t> worlds_meeting_goal(const std::string& library_path, const
 }
 
 SeekOutcome seek_goal(const std::string& library_path, const SeekRequest& request, const SeekListener& on_status,
-                      SamplingProgress* progress, WorldMaker* maker) {
-    GoalSearch search(library_path, request, on_status, progress, maker);
+                      SamplingProgress* progress, WorldMaker* maker, const MadeWorldSink& on_world) {
+    GoalSearch search(library_path, request, on_status, progress, maker, on_world);
     return search.run();
 }
 

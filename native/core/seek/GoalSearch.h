@@ -14,6 +14,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,7 @@ struct SeekStatus {
     double best_value = 0;            ///< GoalScore::value() of the best world
     uint64_t best_world = 0;
     uint64_t worlds_made = 0;         ///< simulated by this search (sampled, refined, rejected)
+    uint64_t worlds_rejected = 0;     ///< of those, rejected (a fault, a time limit, a runaway body)
     uint64_t worlds_meeting_goal = 0; ///< in the whole library
     double seconds = 0;
 };
@@ -56,6 +58,7 @@ struct SeekOutcome : SeekStatus {
     std::vector<uint64_t> found{};     ///< every world of the library meeting the goal
     GoalScore best_score{};
     uint64_t refinements = 0;          ///< refine calls made
+    std::map<std::string, uint64_t> reject_reasons{};  ///< why worlds were rejected -> how many
 };
 
 /// Called after each batch of new worlds, from the calling thread.
@@ -73,7 +76,9 @@ std::vector<uint64_t> worlds_meeting_goal(const std::string& library_path, const
 /// WorldNotReproduced when its worlds were made by another engine build, and LibraryError when
 /// the file cannot be read or written. `maker` simulates the worlds (nullptr: this process's
 /// threads, keeping up to request.cache_bytes of lineages).
+/// `on_world` (optional) is told of each world as it arrives, between the listener's batches.
 SeekOutcome seek_goal(const std::string& library_path, const SeekRequest& request, const SeekListener& on_status = {},
-                      SamplingProgress* progress = nullptr, WorldMaker* maker = nullptr);
+                      SamplingProgress* progress = nullptr, WorldMaker* maker = nullptr,
+                      const MadeWorldSink& on_world = {});
 
 }  // namespace mwb

@@ -1,0 +1,66 @@
+"""Refinement in the sidebar on a scene as an animator makes it: cubes, UV spheres and a cylinder
+added with Blender's operators and left at the default shape (Convex Hull), over a plane that
+collides as a mesh. Every child is stored by the supervised workers, and the panel's last line
+counts what was stored and, when worlds are lost, how many and why."""
+import os
+
+import bpy
+import pytest
+
+from conftest import add_rigid_body, mesh_object, override, save_blend, sample_and_wait
+from test_refining import refine_and_wait
+
+from many_worlds.core.session import SESSION
+
+
+def default_shapes_scene():
+    plane = mesh_object("Plane", primitive="plane", size=20)
+    add_rigid_body(plane, "PASSIVE", shape="MESH")
+    objects = []
+    for i in range(4):
+        objects.append(mesh_object(f"Cube.{i:03d}", location=(-1.5 + 1.1 * i, 1.0, 0.6 + 0.4 * i), size=0.5))
+    objects.append(mesh_object("Sphere", primitive="uv_sphere", location=(-0.4, 0.9, 3.0), radius=0.3))
+    objects.append(mesh_object("Sphere.001", primitive="uv_sphere", location=(1.2, -0.8, 2.0), radius=0.25))
+    objects.append(mesh_object("Cylinder", primitive="cylinder", location=(0, -1.5, 0.5), radius=0.2, depth=0.6))
+    for ob in objects:
+        with override(ob):
+            bpy.ops.rigidbody.object_add(type="ACTIVE")
+        assert ob.rigid_body.collision_shape == "CONVEX_HULL", "Blender's default shape"
+        v = ob.mwb_variation
+        v.location_min, v.location_max = (-0.2, -0.2, 0), (0.2, 0.2, 0.2)
+        v.angular_velocity_min, v.angular_velocity_max = (-3, -3, -3), (3, 3, 3)
+    scene = bpy.context.scene
+    scene.rigidbody_world.point_cache.frame_start = 1
+    scene.rigidbody_world.point_cache.frame_end = 49
+    scene.frame_start, scene.frame_end = 1, 49
+
+
+@pytest.fixture
+def sampled(tmp_path):
+    default_shapes_scene()
+    save_blend(tmp_path)
+    sample_and_wait(8, threads=2, seed=3)
+    assert len(SESSION.view.world_indices) == 8
+    return SESSION.view
+
+
+def test_refining_a_default_shape_sphere_stores_every_child(sampled):
+    _, children = refine_and_wait(sampled.world_indices[2], "Sphere", 0.4, count=8)
+    assert len(children) == 8
+    assert SESSION.status.startswith("Refined into 8 worlds;"), SESSION.status
+    assert "rejected" not in SESSION.status and SESSION.run_warnings == []
+
+
+@pytest.fixture
+def a_child_crashes():
+    # Child 10 makes its worker abort, as a world that crashes ODE would (a test-only switch).
+    os.environ["MWB_ENGINE_TEST_FAULTS"] = "10:abort"
+    yield
+    del os.environ["MWB_ENGINE_TEST_FAULTS"]
+
+
+def test_a_refinement_that_loses_a_world_says_how_many_and_why(sampled, a_child_crashes):
+    _, children = refine_and_wait(sampled.world_indices[1], "Sphere.001", 0.3, count=8)
+    assert len(children) == 7 and 10 not in children
+    assert SESSION.status.startswith("Refined into 7 worlds; 1 rejected (1: the simulation crashed"), SESSION.status
+    assert "Aborted" in SESSION.status and SESSION.status.endswith("the library holds 15"), SESSION.status
