@@ -100,10 +100,11 @@ def rigid_body(obj, body_type, shape, mass=1.0, friction=0.5, restitution=0.0, d
     rb.collision_shape, rb.mass, rb.friction, rb.restitution = shape, mass, friction, restitution
     rb.linear_damping, rb.angular_damping = damping
     # While use_margin is off Blender uses a hidden 4 cm margin: inside BOX and CYLINDER shapes, which
-    # breaks those thinner than 8 cm, and outside CONE and hull shapes. Such objects get a tiny
-    # explicit margin instead (the engine adds an explicit margin outside every shape; 0.5 mm is
-    # harmless there). Everything else keeps the default, which the engine ignores.
-    if shape in ("CONE", "CONVEX_HULL") or smallest_extent(obj) < THIN_OBJECT:
+    # breaks those thinner than 8 cm, and outside CONE shapes. Such objects get a tiny explicit
+    # margin instead (the engine adds an explicit margin outside every shape; 0.5 mm is harmless
+    # there). Everything else keeps the default, which the engine ignores; a Convex Hull at the
+    # default collides with its own points, as Bullet shrinks it by the margin it adds.
+    if shape == "CONE" or smallest_extent(obj) < THIN_OBJECT:
         rb.use_margin, rb.collision_margin = True, THIN_MARGIN
     rb.collision_collections = [i in collections for i in range(20)]
     return rb

@@ -140,7 +140,8 @@ def build_tower(mats):
             size = (BLOCK_DEPTH, BLOCK_LENGTH, BLOCK_HEIGHT) if rotated else (BLOCK_LENGTH, BLOCK_DEPTH, BLOCK_HEIGHT)
             block = box(f"Block{count:03d}", size, location=TOWER_CENTRE + Vector((x, y, z)),
                         mat=mats["stone" if layer % 2 else "stone2"])
-            rigid_body(block, "ACTIVE", "BOX", mass=BLOCK_MASS, friction=0.6, restitution=0.05)
+            # Each block is a cube as Blender adds it, left at the default shape (Convex Hull).
+            rigid_body(block, "ACTIVE", "CONVEX_HULL", mass=BLOCK_MASS, friction=0.6, restitution=0.05)
             # As animators keep a stack from settling before it is hit: Bullet's Deactivation,
             # starting asleep. Both Blender and the engine then leave the tower alone until the
             # rock (or a falling block) reaches it, and neither spends time on it until then.

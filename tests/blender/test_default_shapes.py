@@ -3,6 +3,7 @@ added with Blender's operators and left at the default shape (Convex Hull), over
 collides as a mesh. Every child is stored by the supervised workers, and the panel's last line
 counts what was stored and, when worlds are lost, how many and why."""
 import os
+import time
 
 import bpy
 import pytest
@@ -64,3 +65,34 @@ def test_a_refinement_that_loses_a_world_says_how_many_and_why(sampled, a_child_
     assert len(children) == 7 and 10 not in children
     assert SESSION.status.startswith("Refined into 7 worlds; 1 rejected (1: the simulation crashed"), SESSION.status
     assert "Aborted" in SESSION.status and SESSION.status.endswith("the library holds 15"), SESSION.status
+
+
+def test_seeking_on_default_shapes_stores_every_world_and_counts_them(sampled):
+    """A box where the sphere ends in one world, over the run's last second, as the goal: the
+    search's worlds are made by supervised workers, none is rejected, and the last line counts
+    the worlds it made."""
+    from test_queries import PROJECTION, SIZE, VIEW
+    from test_refining import rect_around
+    from many_worlds.core import engine as engine_process
+    from many_worlds.operators import run_poller
+    world = sampled.world_indices[4]
+    last_s = (sampled.library.world_info(world).frame_count - 1) / sampled.library.world_info(world).record_hz
+    rect = rect_around(world, "Sphere", last_s, half_px=40)
+    assert bpy.ops.mwb.add_box(rect=rect, bodies="Sphere", view_matrix=VIEW.ravel().tolist(),
+                               projection_matrix=PROJECTION.ravel().tolist(), region_size=SIZE) == {"FINISHED"}
+    box = bpy.context.scene.mwb.boxes[-1]
+    box.use_time_window, box.time_start_s, box.time_end_s = True, last_s - 1.0, last_s
+    settings = bpy.context.scene.mwb
+    settings.seek_want, settings.seek_budget_worlds, settings.threads = 50, 40, 2
+    assert bpy.ops.mwb.seek() == {"FINISHED"}
+    run = SESSION.run
+    deadline = time.monotonic() + 120
+    while run_poller.poll_run() is not None:
+        assert time.monotonic() < deadline, "the seek stalled"
+        time.sleep(0.05)
+    outcome = engine_process.SeekOutcome.from_summary(run.summary())
+    assert SESSION.last_error == "" and outcome is not None, SESSION.status
+    assert outcome.worlds_made == 40 and outcome.rejected == 0
+    assert len(SESSION.view.world_indices) == 8 + 40
+    assert SESSION.status == engine_process.seek_outcome_text(outcome, 50), SESSION.status
+    assert "rejected" not in SESSION.status
