@@ -4,8 +4,10 @@ side, alternating), and checks that a run with crashing and hanging worlds loses
 
 /usr/bin/python3 tests/bench/bench_faults.py BUILD_DIR
 Prints a table and `BENCH supervised_throughput_ratio`, `worlds_per_min_50body_engine`,
-`fault_worlds_lost` and `supervised_seek_ratio` (a goal search's wall time in its own threads /
-with every world in a worker process: each worker re-simulates the parents it did not make).
+`fault_worlds_lost`, `supervised_seek_ratio` (a goal search's wall time in its own threads /
+with every world in a worker process: each worker re-simulates the parents it did not make) and
+the same for refinement and search on a scene of Blender's default shapes (convex hulls),
+`supervised_hull_refine_ratio` and `supervised_hull_seek_ratio`.
 """
 import json
 import shutil
@@ -25,6 +27,7 @@ BUILD = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "build")
 ENGINE = os.path.join(BUILD, "native", "mwb-engine")
 PILE = os.path.join(ROOT, "tests", "bench", "pile50.json")
 QUICKSTART = os.path.join(ROOT, "tests", "scenes", "quickstart.json")
+DEFAULTS = os.path.join(ROOT, "tests", "scenes", "blender_defaults.json")
 
 
 def report(name, value, unit, note=""):
@@ -68,23 +71,50 @@ def main():
 
         # A goal search of a fixed budget in worlds makes the same worlds either way.
         _, base = timed_sample(folder, QUICKSTART, 8)
-        goal = os.path.join(folder, "upright.goal.json")
-        with open(goal, "w") as f:
-            upright = {"within_deg": 8, "time_window": [3.0, 4.0]}
-            json.dump({"boxes": [], "orientations": [dict(upright, objects=[o]) for o in ("Die", "Can", "Cone")]}, f)
-        seek_ratios = []
-        for _ in range(3):
-            times = {}
-            for mode, extra in (("inside", ["--in-process"]), ("outside", [])):
-                library = os.path.join(folder, f"seek_{mode}.mwb")
-                shutil.copy(base, library)
-                start = time.perf_counter()
-                subprocess.run([ENGINE, "seek", "--library", library, "--goal", goal, "--budget-worlds", "400",
-                                "--seed", "1", "--threads", "2", *extra], check=True, capture_output=True)
-                times[mode] = time.perf_counter() - start
-            seek_ratios.append(times["inside"] / times["outside"])
-        report("supervised_seek_ratio", statistics.median(seek_ratios), "x",
-               "seek wall time in-process / supervised, 400 quick-start worlds, median of 3 pairs")
+        upright = {"within_deg": 8, "time_window": [3.0, 4.0]}
+        goal = write_goal(folder, "upright", [dict(upright, objects=[o]) for o in ("Die", "Can", "Cone")])
+        report("supervised_seek_ratio", in_process_over_supervised(folder, base, "seek", "--goal", goal,
+                                                                   "--budget-worlds", "400", "--seed", "1"),
+               "x", "seek wall time in-process / supervised, 400 quick-start worlds, median of 3 pairs")
+
+        # Blender's default shapes: every refined child has ghosts grown from hulls.
+        _, base = timed_sample(folder, DEFAULTS, 8)
+        with open(DEFAULTS) as f:
+            names = [b["name"] for b in json.load(f)["bodies"]]
+        bodies = f"{names.index('Sphere')},{names.index('Bottle.000')}"
+        report("supervised_hull_refine_ratio",
+               in_process_over_supervised(folder, base, "refine", "--world", "3", "--bodies", bodies, "--time", "0.8",
+                                          "--count", "32"),
+               "x", "refine wall time in-process / supervised, 32 children of two hulls, median of 3 pairs")
+        standing = {"within_deg": 10, "time_window": [2.0, 3.0]}
+        goal = write_goal(folder, "standing", [dict(standing, objects=["Bottle.000", "Bottle.002"])])
+        report("supervised_hull_seek_ratio",
+               in_process_over_supervised(folder, base, "seek", "--goal", goal, "--budget-worlds", "300", "--seed", "1"),
+               "x", "seek wall time in-process / supervised, 300 worlds of default-shape hulls, median of 3 pairs")
+
+
+def write_goal(folder, name, orientations):
+    goal = os.path.join(folder, f"{name}.goal.json")
+    with open(goal, "w") as f:
+        json.dump({"boxes": [], "orientations": orientations}, f)
+    return goal
+
+
+def in_process_over_supervised(folder, base, command, *args):
+    """Wall time of `command` on a copy of library `base` in the engine's threads / in its worker
+    processes, 2 threads, median of 3 pairs run alternately (the worlds are the same either way)."""
+    ratios = []
+    for _ in range(3):
+        times = {}
+        for mode, extra in (("inside", ["--in-process"]), ("outside", [])):
+            library = os.path.join(folder, f"{command}_{mode}.mwb")
+            shutil.copy(base, library)
+            start = time.perf_counter()
+            subprocess.run([ENGINE, command, "--library", library, *args, "--threads", "2", *extra], check=True,
+                           capture_output=True)
+            times[mode] = time.perf_counter() - start
+        ratios.append(times["inside"] / times["outside"])
+    return statistics.median(ratios)
 
 
 if __name__ == "__main__":

@@ -41,6 +41,31 @@ def interrupted_run(scene):
     return (item.interrupted_first, item.interrupted_end) if item is not None and item.interrupted_first >= 0 else None
 
 
+def _varies(ob):
+    v = ob.mwb_variation
+    return any(any(low) or any(high) for low, high in (
+        (v.location_min, v.location_max), (v.rotation_min, v.rotation_max),
+        (v.linear_velocity_min, v.linear_velocity_max), (v.angular_velocity_min, v.angular_velocity_max)))
+
+
+def sample_blocker(scene):
+    """Why Sample cannot start now, in the words the panel and the button's tooltip show, or ''."""
+    if SESSION.run is not None:
+        return f"{SESSION.run.label} is running; wait for it or cancel it first"
+    rbw = scene.rigidbody_world
+    if rbw is None or rbw.collection is None:
+        return "Add a Rigid Body World first (Scene Properties > Rigid Body World)"
+    simulated = export.simulated_object_names(scene)
+    if not simulated:
+        return "Nothing to simulate: make an object an Active rigid body (Object > Rigid Body > Add Active)"
+    if not props.resolved_library_path(scene):
+        return "Save the .blend first (the library is written next to it) or set a library path"
+    if scene.mwb.alpha == 0 and not any(_varies(scene.objects[name]) for name in simulated if name in scene.objects):
+        return ("Every world would be the same: give an object a variation range (Physics > Many Worlds "
+                "Variation) or raise Perturbation (Expert Settings)")
+    return ""
+
+
 def start_sampling(context, finish_interrupted=True):
     """Export, validate and start the engine. Returns (ok, message, export problems).
 
@@ -51,11 +76,10 @@ def start_sampling(context, finish_interrupted=True):
     """
     scene = context.scene
     settings = scene.mwb
-    if SESSION.run is not None:
-        return False, f"{SESSION.run.label} is already running", []
+    blocker = sample_blocker(scene)
+    if blocker:
+        return False, blocker, []
     library = props.resolved_library_path(scene)
-    if not library:
-        return False, "Save the .blend first (the library is written next to it) or set a library path", []
     # Export the user's scene, not the preview's poses.
     preview.end(scene)
     if os.path.isfile(library) and (SESSION.view is None or SESSION.view.path != library):
@@ -120,7 +144,10 @@ class MWB_OT_sample(FollowsRun, bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return SESSION.run is None and context.scene.rigidbody_world is not None
+        blocker = sample_blocker(context.scene)
+        if blocker:
+            cls.poll_message_set(blocker)
+        return not blocker
 
     def invoke(self, context, event):
         interrupted = interrupted_run(context.scene)

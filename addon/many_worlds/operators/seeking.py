@@ -106,7 +106,10 @@ class MWB_OT_seek(FollowsRun, bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return SESSION.run is None and SESSION.view is not None
+        problem = seek_problem(context.scene)
+        if problem:
+            cls.poll_message_set(problem)
+        return not problem
 
     def _start(self, context):
         ok, message = start_seek(context)

@@ -11,7 +11,7 @@ from . import filmstrip, legend, lists
 from .fit import wrapped_labels
 from ..core import library_query
 from ..core.export_warnings import grouped_warning_lines
-from ..operators import sampling
+from ..operators import sampling, seeking
 from ..core.run import RunKind
 from ..core.session import SESSION
 from ..draw import paths as path_overlay
@@ -46,10 +46,9 @@ class MWB_PT_sampling(SidebarPanel, bpy.types.Panel):
         layout = self.layout
         settings = context.scene.mwb
         layout.prop(settings, "library_path", text="")
-        if not settings.library_path:
-            path = props.resolved_library_path(context.scene)
-            wrapped_labels(layout, context, f"Writes to {os.path.basename(path)}" if path
-                           else "Save the .blend to choose a library", "FILE")
+        path = props.resolved_library_path(context.scene)
+        if path and not settings.library_path:
+            wrapped_labels(layout, context, f"Writes to {os.path.basename(path)}", "FILE")
         if len(settings.libraries) > 1:
             layout.template_list("MWB_UL_libraries", "", settings, "libraries", settings, "library_index", rows=2)
         interrupted = sampling.interrupted_run(context.scene)
@@ -67,6 +66,10 @@ class MWB_PT_sampling(SidebarPanel, bpy.types.Panel):
         if SESSION.run is None:
             row.operator("mwb.sample", icon="PLAY")
             row.operator("mwb.check_scene", text="", icon="VIEWZOOM")
+            # A greyed-out button says why, here as in its tooltip.
+            blocker = sampling.sample_blocker(context.scene)
+            if blocker:
+                wrapped_labels(layout, context, blocker, "ERROR")
         else:
             cancel_button(row)
         if SESSION.status and SESSION.last_kind != RunKind.SEEK:
@@ -169,6 +172,9 @@ class MWB_PT_seek(SidebarPanel, bpy.types.Panel):
         col.prop(settings, "seek_budget_s")
         if SESSION.run is None:
             layout.operator("mwb.seek", icon="VIEWZOOM")
+            problem = seeking.seek_problem(context.scene)
+            if problem:
+                wrapped_labels(layout, context, problem, "ERROR")
         else:
             cancel_button(layout)
         if SESSION.last_kind == RunKind.SEEK:

@@ -1,0 +1,60 @@
+"""A greyed-out Sample or Seek says why, in the panel and in the button's tooltip (the operator's
+poll message, which Blender also gives when a script calls it): no Rigid Body World, nothing to
+simulate, no place for the library, nothing that varies, nothing to seek."""
+import bpy
+import pytest
+
+from conftest import add_rigid_body, drop_scene, mesh_object, save_blend, sample_and_wait
+
+from many_worlds.operators import sampling, seeking
+
+
+def refused(operator):
+    """The message Blender gives when `operator`'s poll refuses it."""
+    assert not operator.poll()
+    with pytest.raises(RuntimeError) as refusal:
+        operator()
+    return str(refusal.value)
+
+
+def test_without_a_rigid_body_world_sample_says_to_add_one(tmp_path):
+    save_blend(tmp_path)
+    assert bpy.context.scene.rigidbody_world is None
+    message = refused(bpy.ops.mwb.sample)
+    assert "Add a Rigid Body World" in message
+    assert "Save the .blend" not in message
+
+
+def test_with_only_passive_bodies_sample_says_there_is_nothing_to_simulate(tmp_path):
+    ground = mesh_object("Ground", location=(0, 0, -0.5), scale=(5, 5, 0.5))
+    add_rigid_body(ground, "PASSIVE")
+    save_blend(tmp_path)
+    assert "Nothing to simulate" in refused(bpy.ops.mwb.sample)
+
+
+def test_an_unsaved_file_without_a_library_path_says_to_save_or_set_one():
+    drop_scene(bodies=1)
+    assert "Save the .blend first" in refused(bpy.ops.mwb.sample)
+    bpy.context.scene.mwb.library_path = "/tmp/unsaved.mwb"
+    assert sampling.sample_blocker(bpy.context.scene) == ""
+
+
+def test_a_run_that_could_only_make_identical_worlds_is_refused(tmp_path):
+    _, boxes = drop_scene(bodies=1)
+    save_blend(tmp_path)
+    for box in boxes:
+        v = box.mwb_variation
+        v.location_min = v.location_max = v.angular_velocity_min = v.angular_velocity_max = (0, 0, 0)
+    bpy.context.scene.mwb.alpha = 0
+    assert "Every world would be the same" in refused(bpy.ops.mwb.sample)
+    bpy.context.scene.mwb.alpha = 0.1
+    assert bpy.ops.mwb.sample.poll()
+
+
+def test_seek_says_what_it_needs_first(tmp_path):
+    drop_scene(bodies=1)
+    save_blend(tmp_path)
+    assert "Open or sample a library first" in refused(bpy.ops.mwb.seek)
+    sample_and_wait(2, threads=2)
+    assert "Draw a box first" in refused(bpy.ops.mwb.seek)
+    assert seeking.seek_problem(bpy.context.scene).startswith("Draw a box first")
