@@ -166,9 +166,9 @@ def spec_of(box, view, negative=None):
 def drag_spec(view, view_matrix, projection_matrix, size, rect, negative, body_names):
     """The BoxSpec of a box being dragged (not stored yet), or None if it cannot be queried."""
     bodies = body_indices(body_names, view)
-    rect = core_query.normalized_rect(*rect)
-    if not bodies or rect[2] - rect[0] < 1 or rect[3] - rect[1] < 1:
+    if not bodies or core_query.too_small_text(rect):
         return None
+    rect = core_query.normalized_rect(*rect)
     return core_query.BoxSpec(view=np.array(view_matrix, dtype=np.float64).reshape(4, 4),
                               projection=np.array(projection_matrix, dtype=np.float64).reshape(4, 4),
                               size=tuple(size), rect=rect, negative=negative, bodies=bodies)

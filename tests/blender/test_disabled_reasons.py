@@ -1,6 +1,7 @@
 """A greyed-out Sample or Seek says why, in the panel and in the button's tooltip (the operator's
 poll message, which Blender also gives when a script calls it): no Rigid Body World, nothing to
-simulate, no place for the library, nothing that varies, nothing to seek."""
+simulate, no place for the library, nothing that varies, nothing to seek. A box too small to be one
+is refused saying so."""
 import bpy
 import pytest
 
@@ -58,3 +59,13 @@ def test_seek_says_what_it_needs_first(tmp_path):
     sample_and_wait(2, threads=2)
     assert "Draw a box first" in refused(bpy.ops.mwb.seek)
     assert seeking.seek_problem(bpy.context.scene).startswith("Draw a box first")
+
+
+def test_a_box_too_small_to_be_one_is_refused_saying_so():
+    from test_queries import PROJECTION, SIZE, VIEW
+    drop_scene(bodies=1)
+    through = dict(view_matrix=VIEW.ravel().tolist(), projection_matrix=PROJECTION.ravel().tolist(), region_size=SIZE)
+    with pytest.raises(RuntimeError, match=r"The box was too small \(1 × 50 px\)"):
+        bpy.ops.mwb.add_box(rect=(10, 10, 11, 60), bodies="Box0", **through)
+    assert len(bpy.context.scene.mwb.boxes) == 0
+    assert bpy.ops.mwb.add_box(rect=(10, 10, 13, 60), bodies="Box0", **through) == {"FINISHED"}

@@ -178,7 +178,19 @@ def steps():
     assert boxes.OVERLAY.dragging is None and len(scene.mwb.boxes) == 2
     assert matching_now() == expected_both
 
-    # Both stored boxes drawn in their own colours; the panels show the list and the ranking.
+    # A click with the tool (press and release in one spot): no box, and the panel says why.
+    simulate(window, region, "MOUSEMOVE", "NOTHING", 120, 120)
+    yield
+    start_tool(window, area, region)
+    simulate(window, region, "LEFTMOUSE", "PRESS", 120, 120)
+    yield
+    simulate(window, region, "LEFTMOUSE", "RELEASE", 120, 120)
+    yield
+    assert len(scene.mwb.boxes) == 2 and boxes.OVERLAY.dragging is None
+    assert SESSION.box_note.startswith("The box was too small (0 × 0 px)"), SESSION.box_note
+
+    # Both stored boxes drawn in their own colours; the panels show the list (with the note on the
+    # click) and the ranking.
     area.tag_redraw()
     yield
     final = viewport_helpers.screenshot(OUT_DIR, "boxes_drawn.png")

@@ -52,6 +52,18 @@ def normalized_rect(x0, y0, x1, y1):
     return min(x0, x1), min(y0, y1), max(x0, x1), max(y0, y1)
 
 
+# A rectangle narrower or lower than this (region pixels) is a click, not a box.
+MIN_BOX_PX = 3
+
+
+def too_small_text(rect):
+    """Why the rectangle (x0, y0, x1, y1, corners in any order) is no box, or '' when it is one."""
+    x0, y0, x1, y1 = normalized_rect(*rect)
+    if x1 - x0 >= MIN_BOX_PX and y1 - y0 >= MIN_BOX_PX:
+        return ""
+    return f"The box was too small ({x1 - x0:.0f} × {y1 - y0:.0f} px): drag at least {MIN_BOX_PX} px each way"
+
+
 def order_among(afters, kept):
     """The order of the boxes that are passed on, by their positions in the passed list.
 

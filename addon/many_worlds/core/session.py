@@ -13,6 +13,7 @@ class Session:
         self.status = ""        # one line for the panel and status bar
         self.last_error = ""    # engine failure text, shown as a report
         self.run_warnings = []  # what the last run's engine warned of, reported when it ends
+        self.box_note = ""      # why the last box drawn was not kept, until the next one is
         self.export_warnings = []    # what the last export could not reproduce, one line per object and setting
 
     @property

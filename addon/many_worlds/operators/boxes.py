@@ -10,14 +10,13 @@ from bpy.props import BoolProperty, FloatVectorProperty, IntProperty, IntVectorP
 from mathutils import Matrix
 
 from .. import scene_boxes
-from ..core.library_query import normalized_rect
+from ..core.library_query import normalized_rect, too_small_text
 from ..core.session import SESSION
 from ..draw import boxes as box_overlay
 
 # Navigation stays usable while waiting for the press that starts a box.
 _NAVIGATION = {"MIDDLEMOUSE", "WHEELUPMOUSE", "WHEELDOWNMOUSE", "WHEELINMOUSE", "WHEELOUTMOUSE",
                "TRACKPADPAN", "TRACKPADZOOM", "NDOF_MOTION"}
-MIN_BOX_PX = 3
 
 
 def viewport_at(window, x, y):
@@ -115,10 +114,15 @@ class BoxDrag:
             return {"PASS_THROUGH"} if event.type in _NAVIGATION else {"RUNNING_MODAL"}
         if event.type == "LEFTMOUSE" and event.value == "RELEASE":
             self._end_px = (event.mouse_x - self._region.x, event.mouse_y - self._region.y)
-            x0, y0, x1, y1 = self._rect()
-            if x1 - x0 < MIN_BOX_PX or y1 - y0 < MIN_BOX_PX:
+            problem = too_small_text(self._rect())
+            if problem:
+                # A click, or a drag along a line: said, never dropped in silence.
+                self.report({"WARNING"}, problem)
+                SESSION.box_note = problem
                 return self._cancel(context)
+            SESSION.box_note = ""
             self._end(context)
+            x0, y0, x1, y1 = self._rect()
             return self._released(context, event, (x0, y0, x1, y1))
         if event.type in {"MOUSEMOVE", "LEFT_SHIFT", "RIGHT_SHIFT", "INBETWEEN_MOUSEMOVE"}:
             self._update(context, event)
@@ -206,10 +210,11 @@ class MWB_OT_add_box(bpy.types.Operator):
         names, left_out = scene_boxes.body_choice(context, asked or None)
         if left_out:
             self.report({"WARNING"}, scene_boxes.left_out_text(left_out))
-        x0, y0, x1, y1 = normalized_rect(*self.rect)
-        if x1 - x0 <= 0 or y1 - y0 <= 0:
-            self.report({"ERROR"}, "The rectangle is empty")
+        problem = too_small_text(self.rect)
+        if problem:
+            self.report({"ERROR"}, problem)
             return {"CANCELLED"}
+        x0, y0, x1, y1 = normalized_rect(*self.rect)
         scene_boxes.store_box(context.scene, [view[i:i + 4] for i in range(0, 16, 4)],
                           [projection[i:i + 4] for i in range(0, 16, 4)], size, (x0, y0, x1, y1),
                           self.negative, names)

@@ -11,7 +11,7 @@ from bpy.props import FloatVectorProperty, IntProperty, IntVectorProperty
 
 from .. import scene_boxes
 from ..core import engine as engine_process
-from ..core.library_query import normalized_rect
+from ..core.library_query import normalized_rect, too_small_text
 from ..core.session import SESSION
 from ..draw import boxes as box_overlay
 from ..core.run import RunKind
@@ -106,10 +106,11 @@ class MWB_OT_refine(bpy.types.Operator):
         if camera is None:
             return {"CANCELLED"}
         view, projection, size = camera
-        rect = normalized_rect(*self.rect)
-        if rect[2] - rect[0] <= 0 or rect[3] - rect[1] <= 0:
-            self.report({"ERROR"}, "The rectangle is empty")
+        problem = too_small_text(self.rect)
+        if problem:
+            self.report({"ERROR"}, problem)
             return {"CANCELLED"}
+        rect = normalized_rect(*self.rect)
         started = refine_through_box(self, context, [view[i:i + 4] for i in range(0, 16, 4)],
                                      [projection[i:i + 4] for i in range(0, 16, 4)], size, rect)
         return {"FINISHED"} if started else {"CANCELLED"}

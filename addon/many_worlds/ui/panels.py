@@ -118,6 +118,8 @@ class MWB_PT_query(SidebarPanel, bpy.types.Panel):
         if progress:
             wrapped_labels(layout, context, progress, "TIME")
         self.draw_new_box_bodies(context, layout)
+        if SESSION.box_note:
+            wrapped_labels(layout, context, SESSION.box_note, "ERROR")
         row = layout.row(align=True)
         row.operator("mwb.draw_box", text="Draw Box", icon="SELECT_SET").negative = False
         row.operator("mwb.draw_box", text="Negative", icon="SELECT_SUBTRACT").negative = True
