@@ -65,7 +65,7 @@ def test_a_box_too_small_to_be_one_is_refused_saying_so():
     from test_queries import PROJECTION, SIZE, VIEW
     drop_scene(bodies=1)
     through = dict(view_matrix=VIEW.ravel().tolist(), projection_matrix=PROJECTION.ravel().tolist(), region_size=SIZE)
-    with pytest.raises(RuntimeError, match=r"The box was too small \(1 × 50 px\)"):
+    with pytest.raises(RuntimeError, match=r"The box was too small \(1×50 px\)"):
         bpy.ops.mwb.add_box(rect=(10, 10, 11, 60), bodies="Box0", **through)
     assert len(bpy.context.scene.mwb.boxes) == 0
     assert bpy.ops.mwb.add_box(rect=(10, 10, 13, 60), bodies="Box0", **through) == {"FINISHED"}

@@ -187,7 +187,7 @@ def steps():
     simulate(window, region, "LEFTMOUSE", "RELEASE", 120, 120)
     yield
     assert len(scene.mwb.boxes) == 2 and boxes.OVERLAY.dragging is None
-    assert SESSION.box_note.startswith("The box was too small (0 × 0 px)"), SESSION.box_note
+    assert SESSION.box_note.startswith("The box was too small (0×0 px)"), SESSION.box_note
 
     # Both stored boxes drawn in their own colours; the panels show the list (with the note on the
     # click) and the ranking.

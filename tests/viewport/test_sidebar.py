@@ -6,7 +6,7 @@ at its default width on the Many Worlds tab and the Physics properties show the 
 The scene gets a camera, so the ranking's rows show thumbnails and the previewed world its filmstrip.
 For each state a new user meets (library just opened with a passive object selected; its path
 index still filling; boxes drawn and a world previewed; an object moved during the preview; the collapsed subpanels opened and the
-variation ranges as min/max; the Rigid Body World removed, so that Sample says why it is greyed out), every panel of the add-on is drawn through a recording layout
+variation ranges as min/max; a click with Draw Box and the Rigid Body World removed, so that the Boxes panel says why no box came of the click and Sample why it is greyed out), every panel of the add-on is drawn through a recording layout
 (tests/viewport/label_fit.py) and every label, field and button text is measured against the
 width the panel gives it. The test fails on any text that does not fit, names it, and keeps a
 full-window screenshot of each state in the output folder. It also checks the panel order, that
@@ -345,7 +345,17 @@ def steps():
     window_screenshot("expert_open.png")
     assert "Expert Settings" in results[-1]["drawn"], results[-1]["drawn"]
 
-    # The Rigid Body World removed: Sample greys out and the panel says why, fitting the sidebar.
+    # A click with Draw Box (no drag), then the Rigid Body World removed: the Boxes panel says why
+    # no box came of it, Sample greys out and its panel says why, all fitting the sidebar.
+    x, y = region.x + region.width // 2, region.y + region.height // 2
+    window.event_simulate(type="MOUSEMOVE", value="NOTHING", x=x, y=y)
+    yield
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        assert bpy.ops.mwb.draw_box("INVOKE_DEFAULT") == {"RUNNING_MODAL"}
+    window.event_simulate(type="LEFTMOUSE", value="PRESS", x=x, y=y)
+    yield
+    window.event_simulate(type="LEFTMOUSE", value="RELEASE", x=x, y=y)
+    yield
     with bpy.context.temp_override(window=window, area=area, region=region, scene=scene):
         bpy.ops.rigidbody.world_remove()
     yield
@@ -355,6 +365,8 @@ def steps():
     window_screenshot("no_rigid_body_world.png")
     sample_text = " ".join(texts("Sample"))
     assert "Add a Rigid Body World first" in sample_text and "Save the .blend" not in sample_text, sample_text
+    boxes_text = " ".join(texts("Boxes"))
+    assert "The box was too small (0×0 px)" in boxes_text, boxes_text
 
     scale = bpy.context.preferences.view.ui_scale
     report = {"blender": bpy.app.version_string, "ui_scale": scale, "sidebar_width": sidebar.width,

@@ -61,7 +61,7 @@ def too_small_text(rect):
     x0, y0, x1, y1 = normalized_rect(*rect)
     if x1 - x0 >= MIN_BOX_PX and y1 - y0 >= MIN_BOX_PX:
         return ""
-    return f"The box was too small ({x1 - x0:.0f} × {y1 - y0:.0f} px): drag at least {MIN_BOX_PX} px each way"
+    return f"The box was too small ({x1 - x0:.0f}×{y1 - y0:.0f} px): drag at least {MIN_BOX_PX} px each way"
 
 
 def order_among(afters, kept):
