@@ -251,6 +251,7 @@ class RankingCache:
         self.ids = np.zeros(0, np.int64)
         self.values = np.zeros(0)
         self.position = {}   # world index -> row in the ranking
+        self.decimals = 2    # of the value column: enough to tell the worlds apart
 
     def clear(self):
         self.__init__()
@@ -269,6 +270,7 @@ class RankingCache:
             self.ids, self.values = lq.rank(settings.rank_metric, bodies, settings.rank_combine.lower(),
                                             settings.rank_descending)
             self.position = {int(w): k for k, w in enumerate(self.ids)}
+            self.decimals = core_query.decimals_telling_apart(self.values)
             self._key = key
         return self
 
@@ -284,14 +286,15 @@ def _metric_units():
 METRIC_UNITS = _metric_units()
 
 
-def format_metric(metric, value, box_count=0):
+def format_metric(metric, value, box_count=0, decimals=2):
     """A metric's value as the ranking's value column shows it, by the unit the module gives the
-    metric; boxes met read "2 of 3" (the column's header names the metric)."""
+    metric, seconds and metres with `decimals`; boxes met read "2 of 3" (the column's header names
+    the metric)."""
     unit = METRIC_UNITS.get(metric)
     if unit == "rad":
         return f"{np.degrees(value):.1f}\u00b0"
     if unit in ("s", "m"):
-        return f"{value:.2f} {unit}"
+        return f"{value:.{decimals}f} {unit}"
     if unit == "hits":
         return f"{int(round(value))} hits"
     return f"{int(round(value))} of {box_count}"

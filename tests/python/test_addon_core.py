@@ -182,3 +182,12 @@ def test_on_a_terminal_progress_rewrites_one_line_and_ends_it_before_other_outpu
     printer.finish()
     assert tty.text.count("\n") == 2 and tty.text.count("\r") == 3
     assert tty.text.split("\n")[0].split("\r")[-1].rstrip() == "sampled 10/10 worlds"
+
+
+def test_a_rankings_values_get_the_decimals_that_tell_neighbours_apart():
+    from many_worlds.core.library_query import decimals_telling_apart
+    assert decimals_telling_apart([9.97, 10.93, 11.47, 11.47]) == 2, "equal values stay equal"
+    assert decimals_telling_apart([11.466, 11.474, 47.03]) == 3
+    assert decimals_telling_apart([1.23441, 1.23449]) == 4
+    assert decimals_telling_apart([1.234441, 1.234449]) == 2, "no more than four: alike at four, alike at two"
+    assert decimals_telling_apart([]) == 2

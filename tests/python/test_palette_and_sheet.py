@@ -11,10 +11,28 @@ def distance(a, b):
     return float(np.max(np.abs(np.subtract(a[:3], b[:3]))))
 
 
-def test_palette_colours_are_far_apart_and_far_from_the_selected_worlds_cyan():
-    colours = palette.PALETTE
-    assert min(distance(a, b) for i, a in enumerate(colours) for b in colours[i + 1:]) >= 0.25
-    assert min(distance(c, SELECTED_CYAN) for c in colours) >= 0.3
+def lab(colour):
+    """CIELAB (D65) of a display-space (sRGB) colour."""
+    rgb = np.array(colour[:3], dtype=float)
+    linear = np.where(rgb <= 0.04045, rgb / 12.92, ((rgb + 0.055) / 1.055) ** 2.4)
+    xyz = np.array([[0.4124, 0.3576, 0.1805], [0.2126, 0.7152, 0.0722], [0.0193, 0.1192, 0.9505]]) @ linear
+    xyz /= np.array([0.95047, 1.0, 1.08883])
+    f = np.where(xyz > 0.008856, np.cbrt(xyz), 7.787 * xyz + 16 / 116)
+    return np.array([116 * f[1] - 16, 500 * (f[0] - f[1]), 200 * (f[1] - f[2])])
+
+
+def delta_e(a, b):
+    return float(np.linalg.norm(lab(a) - lab(b)))
+
+
+def test_twenty_objects_get_twenty_colours_far_apart_and_far_from_the_selected_worlds_cyan():
+    names = [f"Cube.{k:03d}" for k in range(20)]
+    colours = list(palette.object_colours(names, simulated=range(20)).values())
+    assert len(set(colours)) == 20
+    assert min(delta_e(a, b) for i, a in enumerate(colours) for b in colours[i + 1:]) >= 19
+    assert min(delta_e(c, SELECTED_CYAN) for c in colours) >= 35
+    # Readable on the viewport's grey.
+    assert min(delta_e(c, (0.24, 0.24, 0.24)) for c in colours) >= 40
 
 
 def test_objects_keep_one_colour_simulated_first_and_updated_bodies_share_theirs():

@@ -52,6 +52,16 @@ def normalized_rect(x0, y0, x1, y1):
     return min(x0, x1), min(y0, y1), max(x0, x1), max(y0, y1)
 
 
+def decimals_telling_apart(values, least=2, most=4):
+    """Decimals (`least` to `most`) at which values that differ at `most` decimals print
+    differently: a ranking's neighbours are told apart, whatever their size."""
+    distinct = len(np.unique(np.round(np.asarray(values, dtype=float), most)))
+    for decimals in range(least, most):
+        if len(np.unique(np.round(np.asarray(values, dtype=float), decimals))) == distinct:
+            return decimals
+    return most
+
+
 # A rectangle narrower or lower than this (region pixels) is a click, not a box.
 MIN_BOX_PX = 3
 

@@ -7,7 +7,9 @@ indices but one object name, so one colour). Cyan is left out of the palette: it
 selected world.
 """
 
-# Readable on Blender's grey viewport and on rendered scenes; display-space RGB in [0, 1].
+# Readable on Blender's grey viewport and on rendered scenes; display-space RGB in [0, 1]. Twenty
+# colours, every two at least 19 apart in CIELAB (ΔE76) and at least 36 from the selected world's
+# cyan, so that up to 20 objects never share one; beyond that they repeat, and the legend says so.
 PALETTE = (
     (1.00, 0.45, 0.05),   # orange
     (1.00, 0.85, 0.10),   # yellow
@@ -17,6 +19,18 @@ PALETTE = (
     (0.90, 0.15, 0.15),   # red
     (0.25, 0.45, 1.00),   # blue
     (0.85, 0.70, 0.50),   # tan
+    (0.75, 0.94, 0.27),   # lime
+    (0.57, 0.12, 0.71),   # purple
+    (0.27, 0.60, 0.56),   # teal
+    (0.60, 0.39, 0.14),   # brown
+    (0.86, 0.75, 1.00),   # lavender
+    (0.10, 0.50, 0.10),   # dark green
+    (0.94, 0.20, 0.90),   # magenta
+    (0.50, 0.50, 0.00),   # olive
+    (0.75, 0.35, 0.45),   # rose
+    (0.35, 0.20, 0.75),   # indigo
+    (0.67, 1.00, 0.76),   # mint
+    (0.98, 0.75, 0.83),   # light pink
 )
 MATCHING_ALPHA = 0.9
 # A world the boxes reject: its object's colour faded towards grey and mostly transparent, so

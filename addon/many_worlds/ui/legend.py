@@ -7,6 +7,7 @@ import bpy.utils.previews
 from ..core import palette
 from ..core.session import SESSION
 from ..draw import paths
+from . import fit
 
 SWATCH_PIXELS = 16
 VIEWPORT_GREY = (0.24, 0.24, 0.24)
@@ -37,14 +38,27 @@ def legend_entries(context):
     return [(name, colour) for name, colour in colours.items() if name in drawn]
 
 
+def legend_columns(names, label_px, scale):
+    """Two columns when every name fits half the width a label has, else one."""
+    half = (label_px - fit.ICON_WIDTH * scale) / 2
+    return 2 if all(fit.text_width(name, scale) <= half for name in names) else 1
+
+
 def draw_legend(layout, context):
     """The colour of each drawn object's paths, and the look of worlds the boxes reject."""
     entries = legend_entries(context)
     if not entries or not context.scene.mwb.show_paths:
         return
-    flow = layout.grid_flow(row_major=True, columns=2, even_columns=True, align=True)
+    scale = context.preferences.view.ui_scale
+    label_px = fit.label_width(context)
+    columns = legend_columns([name for name, _ in entries], label_px, scale)
+    flow = layout.grid_flow(row_major=True, columns=columns, even_columns=True, align=True)
     for name, colour in entries:
         flow.label(text=name, icon_value=swatch_icon(colour))
+    objects = len(palette.object_order(SESSION.view.body_names, SESSION.view.simulated_bodies()))
+    if objects > len(palette.PALETTE):
+        fit.wrapped_labels(layout, context, f"{objects} objects: colours repeat after the first "
+                                            f"{len(palette.PALETTE)}", "INFO")
     if SESSION.view is not None and not SESSION.view.matching.all():
         # As a rejected path looks over the viewport's grey.
         faded = palette.over(palette.rejected(entries[0][1]), VIEWPORT_GREY)

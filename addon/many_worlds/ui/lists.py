@@ -122,7 +122,7 @@ class MWB_UL_ranking(bpy.types.UIList):
         rank.label(text=f"{row_index + 1}." if row_index is not None else "-")
         world.label(text=str(item.world_index))
         if row_index is not None:
-            value.label(text=scene_boxes.format_metric(metric, ranking.values[row_index], box_count),
+            value.label(text=scene_boxes.format_metric(metric, ranking.values[row_index], box_count, ranking.decimals),
                         **filmstrip.row_icon(context, item.world_index))
 
 
