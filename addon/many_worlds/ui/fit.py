@@ -27,11 +27,15 @@ def label_width(context):
     return region_px - (SIDEBAR_TABS + PANEL_MARGINS + ICON_WIDTH) * scale
 
 
+# Joins words that must share a line, such as a value and its unit.
+NO_BREAK_SPACE = "\u00a0"
+
+
 def wrap(text, width_px, scale):
-    """Lines of `text`, broken between words, each at most `width_px` wide (a word longer than
-    that is broken inside)."""
+    """Lines of `text`, broken at spaces (never at NO_BREAK_SPACE), each at most `width_px` wide
+    (a word longer than that is broken inside)."""
     lines, line = [], ""
-    for word in text.split():
+    for word in (w for w in text.split(" ") if w):
         candidate = f"{line} {word}" if line else word
         if text_width(candidate, scale) <= width_px:
             line = candidate

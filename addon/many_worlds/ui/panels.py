@@ -7,7 +7,7 @@ import os
 import bpy
 
 from .. import preview, props, scene_boxes
-from . import filmstrip, legend, lists
+from . import filmstrip, fit, legend, lists
 from .fit import wrapped_labels
 from ..core import library_query
 from ..core.export_warnings import grouped_warning_lines
@@ -337,8 +337,9 @@ def around_text(scene, ob, quantity):
         if units.system == "NONE":
             return "Around " + ", ".join(f"{round(v, 2) + 0.0:.2f}" for v in matrix.translation)
         metres = [v * units.scale_length for v in matrix.translation]
-        values = [bpy.utils.units.to_string(units.system, "LENGTH", v if abs(v) >= 1e-6 else 0.0, precision=2)
-                  for v in metres]
+        # A value keeps its unit on its line (a no-break space between them).
+        values = [bpy.utils.units.to_string(units.system, "LENGTH", v if abs(v) >= 1e-6 else 0.0,
+                                            precision=2).replace(" ", fit.NO_BREAK_SPACE) for v in metres]
         return "Around " + ", ".join(values)
     if quantity == "rotation":
         return "Around " + ", ".join(f"{round(v * props.DEG_PER_RAD)}°" for v in matrix.to_euler())

@@ -1,7 +1,7 @@
 """A greyed-out Sample or Seek says why, in the panel and in the button's tooltip (the operator's
 poll message, which Blender also gives when a script calls it): no Rigid Body World, nothing to
 simulate, no place for the library, nothing that varies, nothing to seek. A box too small to be one
-is refused saying so."""
+is refused saying so, and a wrapped message keeps each value with its unit."""
 import bpy
 import pytest
 
@@ -69,3 +69,15 @@ def test_a_box_too_small_to_be_one_is_refused_saying_so():
         bpy.ops.mwb.add_box(rect=(10, 10, 11, 60), bodies="Box0", **through)
     assert len(bpy.context.scene.mwb.boxes) == 0
     assert bpy.ops.mwb.add_box(rect=(10, 10, 13, 60), bodies="Box0", **through) == {"FINISHED"}
+
+
+def test_a_wrapped_message_keeps_each_value_with_its_unit():
+    from many_worlds.ui import fit
+    nbsp = fit.NO_BREAK_SPACE
+    text = f"Around 12.25{nbsp}m, -3.50{nbsp}m, 8{nbsp}m"
+    # From the width of the longest word (narrower, a word is broken inside, as it must be).
+    widest = max(fit.text_width(word, 1.0) for word in text.split(" "))
+    for width in range(int(widest) + 1, 200, 5):
+        lines = fit.wrap(text, width, 1.0)
+        assert all(not line.startswith("m") for line in lines), (width, lines)
+        assert " ".join(lines) == text
