@@ -15,6 +15,9 @@ simulation starts, hidden from its first frame on), and hands it to the keys lik
 the simulation moved it. Baking a world it exists in removes those keys again and shows it. Objects
 that are not bodies of the library are left alone.
 """
+from dataclasses import dataclass
+from typing import List
+
 import bpy
 import numpy as np
 
@@ -118,9 +121,31 @@ def _objects_of(view, bodies):
     return [(i, ob) for i, ob in pairs if ob is not None]
 
 
+@dataclass
+class BakeOutcome:
+    """What a bake did, by object name."""
+    baked: List[str]
+    hidden: List[str]        # objects the world does not have, keyed hidden
+    skipped: List[str]       # bodies of the world whose objects are gone from the file
+    to_quaternion: List[str]  # objects whose rotation mode the bake set to Quaternion
+    warnings: List[str]
+
+    def text(self, world):
+        """The one line a person reads: what was baked, hidden, skipped and changed."""
+        parts = [f"Baked world {world} onto {len(self.baked)} objects"]
+        if self.hidden:
+            parts.append(f"hid {len(self.hidden)} not in it ({', '.join(self.hidden)})")
+        if self.skipped:
+            parts.append(f"skipped {len(self.skipped)} no longer in the file ({', '.join(self.skipped)})")
+        if self.to_quaternion:
+            parts.append(f"set the rotation mode of {len(self.to_quaternion)} to Quaternion "
+                         f"({', '.join(self.to_quaternion)}; Undo restores it)")
+        return "; ".join(parts)
+
+
 def bake_world(context, world):
     """Bake one world of the open library onto the scene's objects and hide the objects whose
-    bodies it does not have. Returns (baked object names, hidden object names, warnings)."""
+    bodies it does not have. Returns a BakeOutcome."""
     view = SESSION.view
     positions, orientations, record_hz = view.decoded(world)
     # Keys run to the end of the run: a world that came to rest holds its last pose there.
@@ -130,6 +155,9 @@ def bake_world(context, world):
     present = view.present(world)
     simulated = view.simulated_bodies()
     pairs = _objects_of(view, view.present_bodies(world, simulated))
+    skipped = sorted({view.body_names[i] for i in view.present_bodies(world, simulated)} -
+                     {ob.name for _, ob in pairs})
+    to_quaternion = [ob.name for _, ob in pairs if ob.rotation_mode != "QUATERNION"]
     # One body per object: the one the world has, if any (an updated object has several).
     every = _objects_of(view, view.object_bodies(world).values())
     absent = [ob for i, ob in every if not present[i]]
@@ -147,7 +175,7 @@ def bake_world(context, world):
             _remove_visibility_keys(ob)
     hide_objects(absent, view.frame_start, users=users)
     hand_to_keys(handed)
-    return [ob.name for _, ob in pairs], [ob.name for ob in absent], warnings
+    return BakeOutcome([ob.name for _, ob in pairs], [ob.name for ob in absent], skipped, to_quaternion, warnings)
 
 
 class MWB_OT_bake_world(bpy.types.Operator):
@@ -166,14 +194,13 @@ class MWB_OT_bake_world(bpy.types.Operator):
         world = context.scene.mwb.selected_world
         # The preview moved the objects and switched the rigid body world off; put that back first.
         preview.end(context.scene)
-        names, hidden, warnings = bake_world(context, world)
-        for warning in warnings:
+        outcome = bake_world(context, world)
+        for warning in outcome.warnings:
             self.report({"WARNING"}, warning)
-        if not names and not hidden:
+        if not outcome.baked and not outcome.hidden:
             self.report({"WARNING"}, "No object of this world exists in the scene")
             return {"CANCELLED"}
-        extra = f"; hid {len(hidden)} not in it ({', '.join(hidden)})" if hidden else ""
-        self.report({"INFO"}, f"Baked world {world} onto {len(names)} objects{extra}")
+        self.report({"WARNING"} if outcome.skipped else {"INFO"}, outcome.text(world))
         return {"FINISHED"}
 
 

@@ -383,13 +383,12 @@ def command_bake(args):
     if args.world not in set(int(w) for w in view.world_indices):
         raise CliError(f"no world {args.world} in {args.library}")
     SESSION.view = view
-    names, hidden, warnings = bake.bake_world(bpy.context, args.world)
-    for warning in warnings:
+    outcome = bake.bake_world(bpy.context, args.world)
+    for warning in outcome.warnings:
         print(f"many_worlds: warning: {warning}", file=sys.stderr)
     out = os.path.abspath(args.out)
     bpy.ops.wm.save_as_mainfile(filepath=out, copy=True)
-    extra = f" (hid {', '.join(hidden)}: not in this world)" if hidden else ""
-    print(f"baked world {args.world} onto {len(names)} objects{extra} -> {out}")
+    print(f"{outcome.text(args.world)} -> {out}")
     return 0
 
 

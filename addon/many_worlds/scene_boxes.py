@@ -85,11 +85,13 @@ def index_progress_text():
 # --- bodies -----------------------------------------------------------------------------------------
 
 def simulated_body_names(scene):
-    """Names of the bodies the simulation moves: from the library if one is open, else the scene."""
+    """Names of the bodies the simulation moves: from the library if one is open (those whose
+    objects are still in the file), else the scene."""
     view = SESSION.view
     if view is not None:
         # An object updated after sampling has a body per definition: name it once.
-        return list(dict.fromkeys(view.body_names[i] for i in view.simulated_bodies()))
+        return list(dict.fromkeys(view.body_names[i] for i in view.simulated_bodies()
+                                  if view.body_names[i] in bpy.data.objects))
     # No library yet: the objects as they would be exported, by the engine's own rule.
     return export.simulated_object_names(scene)
 

@@ -149,6 +149,33 @@ def test_bake_is_undoable(sampled):
         assert ob.animation_data is None or ob.animation_data.action is None
 
 
+def test_bake_says_it_set_quaternion_rotation_and_undo_gives_the_mode_back(sampled):
+    from many_worlds import bake
+    names = [ob.name for ob in sampled]
+    assert all(bpy.data.objects[n].rotation_mode == "XYZ" for n in names)
+    bpy.ops.mwb.select_world(world=0)
+    bpy.ops.mwb.end_preview()
+    bpy.ops.ed.undo_push(message="before bake")
+    outcome = bake.bake_world(bpy.context, 0)
+    bpy.ops.ed.undo_push(message="Bake World")
+    assert sorted(outcome.to_quaternion) == sorted(names)
+    assert f"set the rotation mode of 2 to Quaternion ({', '.join(outcome.to_quaternion)}; Undo restores it)" in \
+        outcome.text(0), outcome.text(0)
+    bpy.ops.ed.undo()
+    assert all(bpy.data.objects[n].rotation_mode == "XYZ" for n in names)
+
+
+def test_bake_names_the_objects_deleted_since_sampling(sampled):
+    from many_worlds import bake
+    gone = sampled[1].name
+    bpy.data.objects.remove(sampled[1])
+    bpy.ops.mwb.select_world(world=1)
+    bpy.ops.mwb.end_preview()
+    outcome = bake.bake_world(bpy.context, 1)
+    assert outcome.baked == [sampled[0].name] and outcome.skipped == [gone]
+    assert outcome.text(1).startswith(f"Baked world 1 onto 1 objects; skipped 1 no longer in the file ({gone})")
+
+
 def _keys(ob, data_path, index=0):
     fcurve = compat.find_fcurve(ob, data_path, index)
     assert fcurve is not None, f"{ob.name} has no {data_path}[{index}] keys"
@@ -204,9 +231,10 @@ def test_baking_an_object_whose_animation_is_shared_warns_and_leaves_the_other_a
     bpy.ops.mwb.select_world(world=0)
     from many_worlds import preview
     preview.end(bpy.context.scene)
-    names, hidden, warnings = bake.bake_world(bpy.context, 0)
-    assert names == [box.name] and hidden == []
-    assert any(w.startswith(f"{box.name}: its animation is shared with Marker") for w in warnings), warnings
+    outcome = bake.bake_world(bpy.context, 0)
+    assert outcome.baked == [box.name] and outcome.hidden == [] and outcome.skipped == []
+    assert any(w.startswith(f"{box.name}: its animation is shared with Marker") for w in outcome.warnings), \
+        outcome.warnings
     assert marker.animation_data.action != box.animation_data.action
     assert compat.find_fcurve(marker, "location", 0) is None, "the bake keyed the marker too"
     assert len(_keys(marker, "scale", 0)) == 2

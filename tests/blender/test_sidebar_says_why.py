@@ -81,3 +81,21 @@ def test_a_wrapped_message_keeps_each_value_with_its_unit():
         lines = fit.wrap(text, width, 1.0)
         assert all(not line.startswith("m") for line in lines), (width, lines)
         assert " ".join(lines) == text
+
+
+def test_an_object_deleted_after_sampling_leaves_the_legend_the_new_box_and_the_drawing(tmp_path):
+    from many_worlds import scene_boxes
+    from many_worlds.core.session import SESSION
+    from many_worlds.draw import paths
+    from many_worlds.ui import legend
+    _, boxes = drop_scene(bodies=2)
+    save_blend(tmp_path)
+    sample_and_wait(2, threads=2)
+    for ob in bpy.context.view_layer.objects:
+        ob.select_set(False)
+    assert [name for name, _ in legend.legend_entries(bpy.context)] == ["Box0", "Box1"]
+    bpy.data.objects.remove(boxes[1])
+    assert [name for name, _ in legend.legend_entries(bpy.context)] == ["Box0"]
+    assert scene_boxes.body_choice(bpy.context) == (["Box0"], [])
+    drawn = paths.chosen_bodies(bpy.context, SESSION.view)
+    assert [SESSION.view.body_names[i] for i in drawn] == ["Box0"]

@@ -42,9 +42,10 @@ def selected_bodies(context, view):
 
 
 def chosen_bodies(context, view):
-    if context.scene.mwb.path_bodies == "SELECTED":
-        return selected_bodies(context, view)
-    return tuple(view.simulated_bodies())
+    """Indices of the bodies whose paths are drawn: the selected objects' or every simulated one's,
+    less those whose objects were deleted from the file since sampling."""
+    bodies = selected_bodies(context, view) if context.scene.mwb.path_bodies == "SELECTED" else view.simulated_bodies()
+    return tuple(i for i in bodies if view.body_names[i] in bpy.data.objects)
 
 
 def tag_redraw_views():
