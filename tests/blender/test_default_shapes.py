@@ -46,7 +46,22 @@ def sampled(tmp_path):
 
 
 def test_refining_a_default_shape_sphere_stores_every_child(sampled):
-    _, children = refine_and_wait(sampled.world_indices[2], "Sphere", 0.4, count=8)
+    from many_worlds.operators import run_poller
+    seen = []
+    poll = run_poller.poll_run
+
+    def watching_poll():
+        interval = poll()
+        seen.append(SESSION.status)
+        return interval
+
+    run_poller.poll_run = watching_poll
+    try:
+        _, children = refine_and_wait(sampled.world_indices[2], "Sphere", 0.4, count=8)
+    finally:
+        run_poller.poll_run = poll
+    # Until the engine says how many worlds it makes, the panel keeps the line the run began with.
+    assert seen and not any(" 0 / 0 " in line or line.endswith(" / 0 worlds") for line in seen), seen
     assert len(children) == 8
     assert SESSION.status.startswith("Refined into 8 worlds;"), SESSION.status
     assert "rejected" not in SESSION.status and SESSION.run_warnings == []

@@ -89,10 +89,11 @@ class Run:
     def kill(self):
         self.process.kill()
 
-    def running_text(self):
-        """The panel's line while it runs, for a run without a follower."""
+    def running_text(self, before_progress=""):
+        """The panel's line while it runs, for a run without a follower; `before_progress` until
+        the engine has said how many worlds it makes."""
         done, total, _ = self.progress()
-        return f"{self.label}: {done} / {total} worlds"
+        return f"{self.label}: {done} / {total} worlds" if total else before_progress
 
     def finished_text(self, stored):
         """The panel's line once it reached its end; `stored`: worlds the library holds now. It

@@ -85,7 +85,7 @@ def poll_run():
         browsing.tag_redraw_all()
     if not finished:
         SESSION.status = (run.follower.follow(scene, run) if run.follower is not None and scene is not None
-                          else run.running_text())
+                          else run.running_text(SESSION.status))
         _set_status_text(f"Many Worlds: {SESSION.status} (Esc to cancel)")
         return POLL_INTERVAL_S
     stored = len(SESSION.view.world_indices) if SESSION.view else 0

@@ -120,7 +120,7 @@ class SampleFollower:
     cancelled (Sample then offers to finish it) and forgotten once the run reached its end."""
 
     def follow(self, scene, run):
-        return run.running_text()
+        return run.running_text(SESSION.status)
 
     def ended(self, scene, run, stored):
         item = library_item(scene.mwb, run.library)
