@@ -215,6 +215,7 @@ def steps():
     yield
     window.event_simulate(type="LEFTMOUSE", value="RELEASE", x=x, y=y)
     yield
+    scene.mwb.box_index = 0
     with bpy.context.temp_override(window=window, area=area, region=region, scene=scene):
         bpy.ops.rigidbody.world_remove()
     yield
@@ -226,6 +227,8 @@ def steps():
     assert "Add a Rigid Body World first" in sample_text and "Save the .blend" not in sample_text, sample_text
     boxes_text = " ".join(texts("Boxes"))
     assert "The box was too small (0×0 px)" in boxes_text, boxes_text
+    # Box 1 has no time window: the panel says what that means.
+    assert "a path that only passes through counts too" in boxes_text, boxes_text
 
     scale = bpy.context.preferences.view.ui_scale
     report = {"blender": bpy.app.version_string, "ui_scale": scale, "sidebar_width": sidebar.width,

@@ -86,9 +86,9 @@ def ranking_columns(layout):
     """(rank, world, value) layouts of one ranking row or of its header: fixed-width columns for
     the rank and the world index, the rest for the value, right-aligned, so the numbers never run
     into each other at the sidebar's default width."""
-    split = layout.split(factor=0.22)
+    split = layout.split(factor=0.17)
     rank = split.row()
-    split = split.split(factor=0.35)
+    split = split.split(factor=0.27)
     world = split.row()
     value = split.row()
     value.alignment = "RIGHT"

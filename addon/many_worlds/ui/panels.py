@@ -148,6 +148,8 @@ class MWB_PT_query(SidebarPanel, bpy.types.Panel):
         layout.operator("mwb.box_use_selected", icon="RESTRICT_SELECT_OFF").index = index
         col = layout.column(align=True)
         col.prop(box, "use_time_window")
+        if not box.use_time_window:
+            wrapped_labels(col, context, "Any time: a path that only passes through counts too", "INFO")
         sub = col.column(align=True)
         sub.active = box.use_time_window
         sub.prop(box, "time_start_s")
