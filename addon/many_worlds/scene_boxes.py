@@ -84,14 +84,23 @@ def index_progress_text():
 
 # --- bodies -----------------------------------------------------------------------------------------
 
+def deleted_objects(view):
+    """Names of the library's bodies whose objects were deleted from this file since sampling (none
+    when the file has no object of the library at all: a library opened elsewhere)."""
+    names = set(view.body_names)
+    present = {name for name in names if name in bpy.data.objects}
+    return names - present if present else set()
+
+
 def simulated_body_names(scene):
-    """Names of the bodies the simulation moves: from the library if one is open (those whose
-    objects are still in the file), else the scene."""
+    """Names of the bodies the simulation moves: from the library if one is open (less those whose
+    objects were deleted), else the scene."""
     view = SESSION.view
     if view is not None:
+        gone = deleted_objects(view)
         # An object updated after sampling has a body per definition: name it once.
         return list(dict.fromkeys(view.body_names[i] for i in view.simulated_bodies()
-                                  if view.body_names[i] in bpy.data.objects))
+                                  if view.body_names[i] not in gone))
     # No library yet: the objects as they would be exported, by the engine's own rule.
     return export.simulated_object_names(scene)
 

@@ -44,6 +44,9 @@ def test_step_world_previews_the_next_and_previous_world_of_the_ranking(sampled)
     settings.rank_descending = not settings.rank_descending
     assert bpy.ops.mwb.step_world(step=1) == {"FINISHED"}
     assert settings.selected_world == ranked_worlds()[ranked_worlds().index(ranked[-1]) + 1]
+    # Undoable, but no redo panel (registered operators get one), which would cover the viewport's
+    # label of the world stepped to.
+    assert bpy.types.MWB_OT_step_world.bl_options == {"UNDO"}
 
 
 def test_stepping_skips_the_worlds_the_boxes_reject():

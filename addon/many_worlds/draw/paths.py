@@ -24,7 +24,7 @@ import gpu
 import numpy as np
 from gpu_extras.batch import batch_for_shader
 
-from .. import compat
+from .. import compat, scene_boxes
 from ..core import palette, path_budget, screen_thinning
 from ..core.session import SESSION
 from .overlay import ViewportOverlay
@@ -45,7 +45,8 @@ def chosen_bodies(context, view):
     """Indices of the bodies whose paths are drawn: the selected objects' or every simulated one's,
     less those whose objects were deleted from the file since sampling."""
     bodies = selected_bodies(context, view) if context.scene.mwb.path_bodies == "SELECTED" else view.simulated_bodies()
-    return tuple(i for i in bodies if view.body_names[i] in bpy.data.objects)
+    gone = scene_boxes.deleted_objects(view)
+    return tuple(i for i in bodies if view.body_names[i] not in gone)
 
 
 def tag_redraw_views():

@@ -157,7 +157,9 @@ class MWB_OT_step_world(bpy.types.Operator):
     """Preview the next (or previous) world of the ranking; works while the timeline plays"""
     bl_idname = "mwb.step_world"
     bl_label = "Step World"
-    bl_options = {"REGISTER", "UNDO"}
+    # Undoable, but with no redo panel: there is nothing to adjust, and the panel would cover the
+    # viewport's label of the world stepped to.
+    bl_options = {"UNDO"}
 
     step: bpy.props.IntProperty(name="Step", default=1, description="Rows down the ranking (negative: up)")
 
