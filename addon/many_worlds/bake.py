@@ -139,7 +139,7 @@ class BakeOutcome:
             parts.append(f"skipped {len(self.skipped)} no longer in the file ({', '.join(self.skipped)})")
         if self.to_quaternion:
             parts.append(f"set the rotation mode of {len(self.to_quaternion)} to Quaternion "
-                         f"({', '.join(self.to_quaternion)}; Undo restores it)")
+                         f"({', '.join(self.to_quaternion)})")
         return "; ".join(parts)
 
 

@@ -277,7 +277,7 @@ def test_a_body_removed_from_worlds_is_skipped_and_may_be_deleted_from_the_blend
     ranked = output_lines(cli("rank", str(changed), "--metric", "path_length_m", "--objects", "Die"))
     assert sorted(int(line.split()[0]) for line in ranked) == list(range(12))
     baked = output_lines(cli("bake", str(changed), "--world", str(children[0]), "--out", str(tmp_path / "b.blend")))
-    assert "onto 4 objects (hid Die: not in this world)" in baked[-1], baked
+    assert "onto 4 objects; hid 1 not in it (Die)" in baked[-1], baked
     cli("preview", str(changed), "--worlds", f"{children[0]},3", "--out", str(tmp_path / "sheet.png"))
 
 

@@ -345,24 +345,17 @@ ConvexHull build_hull(const std::vector<Vec3>& input, const Vec3& center, double
     return hull;
 }
 
-// Whether `hull` is what ODE needs of it: a closed surface (every edge in two faces, once each
-// way, V - E + F = 2) of convex faces wound counter-clockwise from outside, with every input
-// point on or inside every plane (within `slack`).
-bool is_closed_convex(const ConvexHull& hull, const std::vector<Vec3>& input, double slack) {
+// Whether `hull` is closed (every edge in two faces, once each way; V - E + F = 2) and not folded:
+// every input point on or inside every face's plane, within `slack`. A face folded over by
+// rounding points inwards, and most of the body then lies outside it.
+bool is_closed_and_unfolded(const ConvexHull& hull, const std::vector<Vec3>& input, double slack) {
     std::unordered_map<uint64_t, int> edges;
     for (size_t f = 0; f < hull.faces.size(); ++f) {
         const auto& face = hull.faces[f];
         if (face.size() < 3) return false;
-        const Vec3 n{hull.planes[f][0], hull.planes[f][1], hull.planes[f][2]};
-        for (size_t i = 0; i < face.size(); ++i) {
-            const Vec3& a = hull.points[face[i]];
-            const Vec3& b = hull.points[face[(i + 1) % face.size()]];
-            const Vec3& c = hull.points[face[(i + 2) % face.size()]];
-            if (std::fabs(dot(n, a) - hull.planes[f][3]) > slack) return false;
-            // Each corner turns the same way as the face's normal (a convex, CCW polygon).
-            if (dot(cross(sub(b, a), sub(c, b)), n) < 0) return false;
+        for (size_t i = 0; i < face.size(); ++i)
             if (!edges.emplace(edge_key(face[i], face[(i + 1) % face.size()]), 1).second) return false;
-        }
+        const Vec3 n{hull.planes[f][0], hull.planes[f][1], hull.planes[f][2]};
         for (const Vec3& p : input)
             if (dot(n, p) - hull.planes[f][3] > slack) return false;
     }
@@ -378,6 +371,9 @@ bool is_closed_convex(const ConvexHull& hull, const std::vector<Vec3>& input, do
 // hull's bevels) can fold a hull built that fine, and a coarser one merges them. The last is
 // 10 micrometres on a 1 m body.
 constexpr double kRelativeTolerances[] = {kRelativeTolerance, 1e-7, 1e-6, 1e-5};
+// How far (a fraction of the half-diagonal) a point may stand outside a face of a hull that is not
+// folded: merging coplanar triangles tilts a face by rounding, a fold by the body's size.
+constexpr double kFoldSlack = 1e-5;
 
 }  // namespace
 
@@ -390,8 +386,8 @@ ConvexHull compute_convex_hull(const std::vector<double>& xyz) {
         const double tol = relative * half_diagonal;
         try {
             ConvexHull hull = build_hull(input, center, tol);
-            if (is_closed_convex(hull, input, 4 * tol)) return hull;
-            trouble = "not a closed convex surface";
+            if (is_closed_and_unfolded(hull, input, std::max(4 * tol, kFoldSlack * half_diagonal))) return hull;
+            trouble = "folded or open";
         } catch (const FoldedHull& error) {
             trouble = error.what();
         }
