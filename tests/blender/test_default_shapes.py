@@ -3,12 +3,13 @@ added with Blender's operators and left at the default shape (Convex Hull), over
 collides as a mesh. Every child is stored by the supervised workers, and the panel's last line
 counts what was stored and, when worlds are lost, how many and why."""
 import os
+import sys
 import time
 
 import bpy
 import pytest
 
-from conftest import add_rigid_body, mesh_object, override, save_blend, sample_and_wait
+from conftest import ROOT, add_rigid_body, mesh_object, override, save_blend, sample_and_wait
 from test_refining import refine_and_wait
 
 from many_worlds.core.session import SESSION
@@ -111,3 +112,24 @@ def test_seeking_on_default_shapes_stores_every_world_and_counts_them(sampled):
     assert len(SESSION.view.world_indices) == 8 + 40
     assert SESSION.status == engine_process.seek_outcome_text(outcome, 50), SESSION.status
     assert "rejected" not in SESSION.status
+
+
+def cell_fracture_available():
+    import addon_utils
+    return any(module.__name__ == "object_fracture_cell" for module in addon_utils.modules())
+
+
+@pytest.mark.skipif(not cell_fracture_available(), reason="Cell Fracture is bundled with Blender up to 4.1 only")
+def test_refining_a_cell_fracture_wall_on_a_mesh_floor_stores_every_child(tmp_path):
+    """The fidelity corpus's wall, cut by Blender's Cell Fracture into hull pieces joined by
+    breakable FIXED constraints, on a passive MESH plane, a ball thrown at it: a piece refined in
+    the sidebar gets every child, none rejected."""
+    sys.path.insert(0, os.path.join(ROOT, "tests", "fidelity"))
+    import scenes
+    scenes.fracture_wall(ground_shape="MESH")
+    save_blend(tmp_path)
+    sample_and_wait(4, threads=2, seed=1)
+    assert len(SESSION.view.world_indices) == 4
+    _, children = refine_and_wait(SESSION.view.world_indices[1], "Wall_cell.008", 0.3, count=8)
+    assert len(children) == 8
+    assert SESSION.status.startswith("Refined into 8 worlds;") and "rejected" not in SESSION.status, SESSION.status
