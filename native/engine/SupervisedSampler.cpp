@@ -19,6 +19,7 @@
 #include "library/LibraryFormat.h"
 #include "library/WorldRecord.h"
 #include "sampler/InOrderDelivery.h"
+#include "sim/OdeMessages.h"
 #include "sim/PortableRandom.h"
 
 namespace mwb {
@@ -221,6 +222,11 @@ private:
     }
 
     void store(Worker& w, const WorkerRecordHeader& h, const std::vector<uint8_t>& payload) {
+        if (h.type == kWorkerOdeMessages) {
+            note_ode_messages(stats_.ode_messages, h.world_index,
+                              decode_ode_messages(std::string(payload.begin(), payload.end())));
+            return;
+        }
         if (h.type == kWorkerLineageReady) {
             w.lineage_ready = true;
             w.started = Clock::now();

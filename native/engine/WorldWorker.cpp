@@ -21,6 +21,7 @@
 #include "refine/LineageCache.h"
 #include "refine/RefineError.h"
 #include "scene/SceneJson.h"
+#include "sim/OdeMessages.h"
 #include "sim/OdeWorld.h"
 #include "sim/SharedPrefix.h"
 #include "sim/WorldSimulator.h"
@@ -28,8 +29,8 @@
 namespace mwb {
 namespace {
 
-// Test-only: MWB_ENGINE_TEST_FAULTS="3:abort,5:segv,7:hang,9:print,2:slow" makes those worlds fail
-// the way a broken ODE can (or print as ODE does, or finish late), so tests can check that a run survives them. Never set
+// Test-only: MWB_ENGINE_TEST_FAULTS="3:abort,5:segv,7:hang,9:print,2:slow,4:odemessage" makes those
+// worlds fail the way a broken ODE can (or print as ODE does, finish late, or give ODE a message), so tests can check that a run survives them. Never set
 // in production.
 std::map<uint64_t, std::string> injected_faults() {
     std::map<uint64_t, std::string> faults;
@@ -49,6 +50,9 @@ std::map<uint64_t, std::string> injected_faults() {
 
 void fail_as_injected(const std::string& fault) {
     if (fault == "abort") std::abort();
+    // A message from ODE while the world steps, through ODE's own handler: it must become one
+    // warning naming the world.
+    if (fault == "odemessage") return;
     // Finishing late, so that later worlds finish first: records must still come in world order.
     if (fault == "slow") {
         ::usleep(500000);
@@ -64,6 +68,16 @@ void fail_as_injected(const std::string& fault) {
     if (fault == "segv") std::raise(SIGSEGV);
     if (fault == "hang")
         for (;;) ::pause();
+}
+
+// The "odemessage" fault: ODE's own message function called as quickstep calls it, half a second
+// into the world, through the handler the engine installs.
+WorldResult with_injected_messages(WorldResult world, const std::string& fault) {
+    if (fault == "odemessage") {
+        OdeMessageCapture capture(world.ode_messages, 0.5);
+        dMessage(d_ERR_LCP, "LCP internal error, s <= 0 (s=%.4e)", -1.5e-5);
+    }
+    return world;
 }
 
 void write_all(const uint8_t* data, size_t size) {
@@ -116,6 +130,10 @@ void send_record(uint64_t world_index, uint32_t type, uint32_t version, const st
 }
 
 void send_world(const WorldResult& world, const CodecBounds& bounds, const Vec3& gravity) {
+    if (!world.ode_messages.empty()) {
+        const std::string text = encode_ode_messages(world.ode_messages);
+        send_record(world.world_index, kWorkerOdeMessages, 0, std::vector<uint8_t>(text.begin(), text.end()));
+    }
     if (world.status == WorldStatus::Ok)
         send_record(world.world_index, kRecordTypeWorld, kWorldRecordVersion, encode_world_record(world, bounds, gravity));
     else if (world.status == WorldStatus::Rejected)
@@ -223,7 +241,9 @@ int run_world_worker(const EngineOptions& options) {
         const WorkerJob job = parse_worker_line(line);
         const auto fault = faults.find(job.world_index);
         if (fault != faults.end()) fail_as_injected(fault->second);
-        send_world(simulator.simulate(job.world_index), options.bounds, gravity);
+        WorldResult world = simulator.simulate(job.world_index);
+        if (fault != faults.end()) world = with_injected_messages(std::move(world), fault->second);
+        send_world(world, options.bounds, gravity);
     }
     return 0;
 }

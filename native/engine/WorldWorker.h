@@ -28,6 +28,9 @@ enum class WorkerRefusal : uint32_t {
 /// WorkerRecordHeader::type a worker sends (no payload) once it has the lineage of the world a
 /// refinement job refines, before it simulates the child: the child's own time starts there.
 constexpr uint32_t kWorkerLineageReady = 0xFFFFFFFEu;
+/// WorkerRecordHeader::type a worker sends before a world's record when ODE gave messages while
+/// it stepped; the payload is encode_ode_messages (sim/OdeMessages.h).
+constexpr uint32_t kWorkerOdeMessages = 0xFFFFFFFDu;
 
 /// The descriptors a worker process is handed by its supervisor: jobs come in on one, records go
 /// out on the other. Standard output is not used: ODE and the C library print there.

@@ -120,6 +120,11 @@ std::unique_ptr<WorldMaker> world_maker(const EngineOptions& options, uint64_t b
 #endif
 }
 
+// One warning per kind of message ODE gave while the command's worlds stepped.
+void warn_of_ode_messages(EngineEvents& events, const OdeMessageReports& reports) {
+    for (const auto& [code, report] : reports) events.warning(EngineWarningCode::OdeMessage, describe_ode_messages(report));
+}
+
 int exit_status(bool cancelled) {
     return static_cast<int>(cancelled ? EngineExit::Cancelled : EngineExit::Ok);
 }
@@ -182,6 +187,7 @@ int run_sample(const EngineOptions& options, [[maybe_unused]] const std::vector<
          << present.size() << " already stored" << (cancelled ? ", cancelled" : "") << " in " << stats.wall_time_s
          << " s -> " << options.output_path << "\n";
     for (const auto& [reason, count] : stats.reject_reasons) text << "  rejected " << count << ": " << reason << "\n";
+    warn_of_ode_messages(events, stats.ode_messages);
     events.summary({{"library", options.output_path},
                     {"stored", stats.worlds_ok},
                     {"rejected", stats.worlds_rejected},
@@ -246,6 +252,7 @@ int run_refine(const EngineOptions& options, EngineEvents& events) {
          << outcome.first_child << ".." << outcome.first_child + options.world_count - 1 << ": " << stats.worlds_ok
          << " stored, " << stats.worlds_rejected << " rejected in " << stats.wall_time_s << " s";
     for (const auto& [reason, count] : stats.reject_reasons) text << "\n  rejected " << count << ": " << reason;
+    warn_of_ode_messages(events, stats.ode_messages);
     events.summary({{"parent", options.parent_world},
                     {"first_child", outcome.first_child},
                     {"count", options.world_count},
@@ -356,6 +363,7 @@ int run_seek(const EngineOptions& options, EngineEvents& events) {
                                 {"refinements", outcome.refinements}, {"seconds", outcome.seconds},
                                 {"cancelled", outcome.cancelled},     {"rejected", outcome.worlds_rejected},
                                 {"reject_reasons", outcome.reject_reasons}};
+    warn_of_ode_messages(events, outcome.ode_messages);
     events.summary(fields, options.json ? fields.dump() : seek_outcome_text(options, outcome, parts));
     return exit_status(outcome.cancelled);
 }

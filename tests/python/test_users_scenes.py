@@ -139,3 +139,20 @@ def test_an_engine_that_cannot_find_itself_samples_in_process_with_one_warning(n
     assert [w["code"] for w in warnings] == ["in_process"]
     assert "nowhere-engine" in warnings[0]["message"]
     assert sorted(native.Library(str(out)).world_indices) == list(range(4))
+
+
+def test_a_message_from_ode_in_a_worker_becomes_one_warning_naming_the_worlds(native, engine, tmp_path):
+    """Worlds 3 and 7 get quickstep's "LCP internal error" through ODE's own message function (a
+    test-only switch): the run warns once, with the count of worlds and the first, and stores
+    every world."""
+    out = tmp_path / "messages.mwb"
+    env = dict(os.environ, MWB_ENGINE_TEST_FAULTS="3:odemessage,7:odemessage")
+    result = subprocess.run([engine, "sample", "--scene", DEFAULTS, "--out", str(out), "--worlds", "0:10",
+                             "--threads", "2", "--events"], capture_output=True, text=True, env=env)
+    assert result.returncode == 0, result.stderr
+    events = [json.loads(line) for line in result.stdout.splitlines()]
+    warnings = [e for e in events if e["event"] == "warning"]
+    assert [w["code"] for w in warnings] == ["ode_message"], warnings
+    assert warnings[0]["message"].startswith('ODE said "LCP internal error, s <= 0 (s=-1.5000e-05)" in 2 worlds '
+                                             '(first world 3 at 0.5 s)'), warnings[0]["message"]
+    assert sorted(native.Library(str(out)).world_indices) == list(range(10))

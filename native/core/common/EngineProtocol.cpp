@@ -21,6 +21,7 @@ const char* engine_warning_code_name(EngineWarningCode code) {
         case EngineWarningCode::OtherBuild: return "other_build";
         case EngineWarningCode::Merge: return "merge";
         case EngineWarningCode::InProcess: return "in_process";
+        case EngineWarningCode::OdeMessage: return "ode_message";
     }
     return "merge";
 }
@@ -38,7 +39,7 @@ std::vector<std::string> engine_error_code_names() {
 
 std::vector<std::string> engine_warning_code_names() {
     std::vector<std::string> names;
-    for (int c = 0; c <= static_cast<int>(EngineWarningCode::InProcess); ++c)
+    for (int c = 0; c <= static_cast<int>(EngineWarningCode::OdeMessage); ++c)
         names.push_back(engine_warning_code_name(static_cast<EngineWarningCode>(c)));
     return names;
 }

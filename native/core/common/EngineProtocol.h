@@ -47,6 +47,7 @@ enum class EngineWarningCode {
     OtherBuild,   ///< the library was sampled by another engine build
     Merge,        ///< something merging libraries noticed
     InProcess,    ///< no worker process could be started: worlds are simulated in the engine's own
+    OdeMessage,   ///< ODE gave a message while worlds stepped (which worlds, when)
 };
 
 const char* engine_error_code_name(EngineErrorCode code);

@@ -6,6 +6,7 @@
 #include <condition_variable>
 #include <exception>
 #include <mutex>
+#include <sstream>
 
 #include "sampler/InOrderDelivery.h"
 #include "sim/OdeWorld.h"
@@ -80,6 +81,7 @@ SamplingStatistics run_parallel(size_t count, int threads, const WorldSink& sink
                     break;
                 case WorldStatus::Cancelled: ++stats.worlds_cancelled; break;
             }
+            note_ode_messages(stats.ode_messages, world.world_index, world.ode_messages);
             if (progress) progress->worlds_done.fetch_add(1, std::memory_order_relaxed);
             in_order.arrive(position, std::move(world));
         }
@@ -91,6 +93,33 @@ SamplingStatistics run_parallel(size_t count, int threads, const WorldSink& sink
 }
 
 }  // namespace
+
+void note_ode_messages(OdeMessageReports& reports, uint64_t world_index, const std::vector<OdeMessage>& messages) {
+    for (const OdeMessage& m : messages)
+        merge_ode_messages(reports, {{m.code, {m.text, world_index, m.first_time_s, 1}}});
+}
+
+void merge_ode_messages(OdeMessageReports& into, const OdeMessageReports& from) {
+    for (const auto& [code, report] : from) {
+        const auto [it, added] = into.emplace(code, report);
+        if (added) continue;
+        it->second.worlds += report.worlds;
+        if (report.first_world < it->second.first_world) {
+            it->second.text = report.text;
+            it->second.first_world = report.first_world;
+            it->second.first_time_s = report.first_time_s;
+        }
+    }
+}
+
+std::string describe_ode_messages(const OdeMessageReport& report) {
+    std::ostringstream text;
+    text.precision(3);
+    text << "ODE said \"" << report.text << "\" in " << report.worlds << (report.worlds == 1 ? " world" : " worlds")
+         << " (first world " << report.first_world << " at " << report.first_time_s
+         << " s); they are stored, but their contacts at those steps may be off";
+    return text.str();
+}
 
 SamplingStatistics sample_world_list(const CompiledScene& compiled, uint64_t base_seed,
                                      const std::vector<uint64_t>& world_indices, int threads, const WorldSink& sink,

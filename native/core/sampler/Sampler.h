@@ -12,13 +12,31 @@
 
 namespace mwb {
 
+/// The worlds of a run in which ODE gave one kind of message.
+struct OdeMessageReport {
+    std::string text;          ///< the first world's first message of this kind
+    uint64_t first_world = 0;  ///< the lowest world index that gave it
+    double first_time_s = 0;   ///< when in that world
+    uint64_t worlds = 0;       ///< how many worlds gave it
+};
+/// ODE's message number -> the worlds that gave messages of that number.
+using OdeMessageReports = std::map<int, OdeMessageReport>;
+
 struct SamplingStatistics {
     uint64_t worlds_ok = 0;
     uint64_t worlds_rejected = 0;
     uint64_t worlds_cancelled = 0;
     std::map<std::string, uint64_t> reject_reasons;  ///< reason -> count
+    OdeMessageReports ode_messages;
     double wall_time_s = 0;
 };
+
+/// Adds the messages world `world_index` gave (WorldResult::ode_messages) to `reports`.
+void note_ode_messages(OdeMessageReports& reports, uint64_t world_index, const std::vector<OdeMessage>& messages);
+/// Adds `from` to `into` (the runs of one command).
+void merge_ode_messages(OdeMessageReports& into, const OdeMessageReports& from);
+/// One warning a person reads: the message, how many worlds, the first and when.
+std::string describe_ode_messages(const OdeMessageReport& report);
 
 /// Progress a caller on another thread may read while a run goes on.
 struct SamplingProgress {

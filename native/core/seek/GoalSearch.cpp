@@ -240,6 +240,7 @@ private:
     void count_rejections(const SamplingStatistics& made) {
         rejected_ += made.worlds_rejected;
         for (const auto& [reason, count] : made.reject_reasons) reject_reasons_[reason] += count;
+        merge_ode_messages(ode_messages_, made.ode_messages);
     }
 
     SeekStatus status() const {
@@ -270,6 +271,7 @@ private:
         if (!worlds_->empty()) out.best_score = worlds_->score(worlds_->best_world());
         out.refinements = refinements_;
         out.reject_reasons = reject_reasons_;
+        out.ode_messages = ode_messages_;
         return out;
     }
 
@@ -278,6 +280,7 @@ private:
     MadeWorldSink on_world_;
     uint64_t rejected_ = 0;
     std::map<std::string, uint64_t> reject_reasons_;
+    OdeMessageReports ode_messages_;
     SamplingProgress own_progress_;
     SamplingProgress* progress_;
     LibraryReader reader_;

@@ -59,6 +59,7 @@ struct SeekOutcome : SeekStatus {
     GoalScore best_score{};
     uint64_t refinements = 0;          ///< refine calls made
     std::map<std::string, uint64_t> reject_reasons{};  ///< why worlds were rejected -> how many
+    OdeMessageReports ode_messages{};                   ///< what ODE said while the worlds stepped
 };
 
 /// Called after each batch of new worlds, from the calling thread.

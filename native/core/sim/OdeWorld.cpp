@@ -1,5 +1,7 @@
 #include "sim/OdeWorld.h"
 
+#include "sim/OdeMessages.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdarg>
@@ -15,8 +17,6 @@ namespace {
     std::vsnprintf(text, sizeof text, message, args);
     throw OdeError("ODE internal error " + std::to_string(code) + ": " + text);
 }
-
-void ignore_ode_message(int, const char*, va_list) {}
 
 void to_ode_quaternion(const Quat& q, dQuaternion out) {
     for (int k = 0; k < 4; ++k) out[k] = q[k];
@@ -40,7 +40,8 @@ void initialize_ode_once() {
         // ODE would abort() the whole process; a world that hits an internal error is rejected.
         dSetErrorHandler(throw_ode_error);
         dSetDebugHandler(throw_ode_error);
-        dSetMessageHandler(ignore_ode_message);
+        // Messages (quickstep's "LCP internal error") go with the world being stepped, for a warning.
+        dSetMessageHandler(record_ode_message);
     });
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "common/Math.h"
+#include "sim/OdeMessages.h"
 
 namespace mwb {
 
@@ -86,6 +87,8 @@ struct WorldResult {
     /// Per body, 1 if it exists in this world (0: removed in the lineage, or added only to other
     /// worlds). Frames of absent bodies hold their scene pose and are never stored.
     std::vector<uint8_t> present;
+    /// What ODE said through its message handler while the world stepped (not stored).
+    std::vector<OdeMessage> ode_messages;
 };
 
 }  // namespace mwb

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <utility>
 
+#include "sim/OdeMessages.h"
 #include "sim/OdeRandom.h"
 #include "sim/PortableRandom.h"
 
@@ -123,6 +124,7 @@ void WorldRun::step_once() {
     impacts_.capture_velocities_before_step();
     {
         OdeRandomScope random_scope(ode_random_state_);
+        OdeMessageCapture messages(result_.ode_messages, t);
         dWorldQuickStep(world_.world(), compiled_.physics_dt_s());
     }
     dJointGroupEmpty(world_.contact_group());
