@@ -45,15 +45,21 @@ def test_a_sample_is_the_same_file_on_one_or_two_threads_whichever_worker_finish
     assert files[3] == files[0], "in one process on 2 threads"
 
 
-def test_text_a_worker_prints_goes_to_the_log_and_every_world_is_stored(native, engine, tmp_path):
-    out = tmp_path / "printed.mwb"
-    env = dict(os.environ, MWB_ENGINE_TEST_FAULTS="2:print,3:print")
-    result = subprocess.run([engine, "sample", "--scene", DEFAULTS, "--out", str(out), "--worlds", "0:6",
+def sample_with_faults(engine, out, worlds, faults):
+    """Sample worlds 0..worlds-1 in 2 workers with the test-only faults given, with --events.
+    Returns (the events, what the engine printed on standard error)."""
+    env = dict(os.environ, MWB_ENGINE_TEST_FAULTS=faults)
+    result = subprocess.run([engine, "sample", "--scene", DEFAULTS, "--out", str(out), "--worlds", f"0:{worlds}",
                              "--threads", "2", "--events"], capture_output=True, text=True, env=env)
     assert result.returncode == 0, result.stderr
-    events = [json.loads(line) for line in result.stdout.splitlines()]
+    return [json.loads(line) for line in result.stdout.splitlines()], result.stderr
+
+
+def test_text_a_worker_prints_goes_to_the_log_and_every_world_is_stored(native, engine, tmp_path):
+    out = tmp_path / "printed.mwb"
+    events, log = sample_with_faults(engine, out, 6, "2:print,3:print")
     assert sum(e["event"] == "world" and e["stored"] for e in events) == 6
-    assert "counterclockwise" in result.stderr and "standard error" in result.stderr
+    assert "counterclockwise" in log and "standard error" in log
     assert sorted(native.Library(str(out)).world_indices) == list(range(6))
 
 
@@ -146,11 +152,7 @@ def test_a_message_from_ode_in_a_worker_becomes_one_warning_naming_the_worlds(na
     test-only switch): the run warns once, with the count of worlds and the first, and stores
     every world."""
     out = tmp_path / "messages.mwb"
-    env = dict(os.environ, MWB_ENGINE_TEST_FAULTS="3:odemessage,7:odemessage")
-    result = subprocess.run([engine, "sample", "--scene", DEFAULTS, "--out", str(out), "--worlds", "0:10",
-                             "--threads", "2", "--events"], capture_output=True, text=True, env=env)
-    assert result.returncode == 0, result.stderr
-    events = [json.loads(line) for line in result.stdout.splitlines()]
+    events, _ = sample_with_faults(engine, out, 10, "3:odemessage,7:odemessage")
     warnings = [e for e in events if e["event"] == "warning"]
     assert [w["code"] for w in warnings] == ["ode_message"], warnings
     assert warnings[0]["message"].startswith('ODE said "LCP internal error, s <= 0 (s=-1.5000e-05)" in 2 worlds '
