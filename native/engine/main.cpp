@@ -53,13 +53,7 @@ void request_cancel(int) { g_progress.cancel.store(true); }
 // How the engine was started (argv[0]), for finding itself without /proc.
 std::string g_invoked_as;
 
-#ifdef _WIN32
-// Worker processes need fork: on Windows every world is simulated in the engine's own process,
-// as with --in-process (a world that crashes ODE ends the run there).
-constexpr bool kWorkerProcesses = false;
-#else
-constexpr bool kWorkerProcesses = true;
-
+#ifndef _WIN32
 bool is_executable_file(const std::string& path) {
     struct stat st {};
     return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) && ::access(path.c_str(), X_OK) == 0;
@@ -82,17 +76,24 @@ std::string own_executable() {
     return {};
 }
 
-// The engine executable for worker processes, or empty (with one warning) when it cannot be
-// found: the worlds are then simulated in this process, as with --in-process.
-std::string executable_for_workers(EngineEvents& events) {
+#endif
+
+// The engine executable the worker processes run, or empty when the worlds are simulated in this
+// process instead (a world that crashes ODE then ends the run): with --in-process, on Windows
+// (worker processes need fork), and, after one warning, when the executable cannot be found.
+std::string executable_for_workers(const EngineOptions& options, EngineEvents& events) {
+#ifdef _WIN32
+    return {};
+#else
+    if (options.in_process) return {};
     std::string path = own_executable();
     if (path.empty())
         events.warning(EngineWarningCode::InProcess,
                        "cannot find the engine executable (no /proc, and '" + g_invoked_as +
                            "' is not on PATH): worlds are simulated in this process, where one that crashes ODE ends the run");
     return path;
-}
 #endif
+}
 
 // Ctrl-C, or "cancel" on stdin for a program (EngineProtocol.h): finish the record being
 // written, keep every finished world, exit with EngineExit::Cancelled.
@@ -107,10 +108,9 @@ void listen_for_cancel(const EngineOptions& options) {
 // --in-process (and on Windows) on this process's threads.
 std::unique_ptr<WorldMaker> world_maker(const EngineOptions& options, uint64_t base_seed, size_t cache_bytes,
                                         EngineEvents& events) {
-    if (options.in_process || !kWorkerProcesses) return std::make_unique<InProcessWorlds>(options.threads, cache_bytes);
-#ifndef _WIN32
-    const std::string engine = executable_for_workers(events);
+    const std::string engine = executable_for_workers(options, events);
     if (engine.empty()) return std::make_unique<InProcessWorlds>(options.threads, cache_bytes);
+#ifndef _WIN32
     const int workers = options.threads > 0 ? options.threads : omp_get_max_threads();
     SupervisedRun run{engine, {"worker", "--library", options.library_path, "--threads", std::to_string(workers)},
                       workers, base_seed, options.world_time_limit_s};
@@ -159,10 +159,7 @@ int run_sample(const EngineOptions& options, [[maybe_unused]] const std::vector<
         events.progress(finished, todo.size(), {}, worlds_done_text("sampled", finished, todo.size()));
     };
     SamplingStatistics stats;
-    std::string engine;
-#ifndef _WIN32
-    if (!options.in_process) engine = executable_for_workers(events);
-#endif
+    const std::string engine = executable_for_workers(options, events);
     if (engine.empty()) {
         stats = sample_world_list(
             compiled, options.base_seed, todo, options.threads,
