@@ -29,15 +29,20 @@ public:
             py::gil_scoped_release release;
             std::unique_lock<std::shared_mutex> lock(appending_);
             added = reader_.poll();
+            index_new_worlds(before);
         }
-        index_new_worlds(before);
         return added;
     }
 
     const StoredWorld& world(uint64_t world_index) const {
+        const StoredWorld* found = find(world_index);
+        if (!found) throw py::key_error("no world " + std::to_string(world_index) + " in " + reader_.path());
+        return *found;
+    }
+    /// The world, or nullptr; callable without the GIL under read_lock().
+    const StoredWorld* find(uint64_t world_index) const {
         const auto it = by_index_.find(world_index);
-        if (it == by_index_.end()) throw py::key_error("no world " + std::to_string(world_index) + " in " + reader_.path());
-        return reader_.worlds()[it->second];
+        return it == by_index_.end() ? nullptr : &reader_.worlds()[it->second];
     }
 
     const LibraryReader& reader() const { return reader_; }

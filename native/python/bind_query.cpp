@@ -62,6 +62,41 @@ QueryBox make_box(const py::array_t<double, py::array::c_style | py::array::forc
     }
 }
 
+QueryBox make_pose_part(std::vector<uint32_t> bodies, double within_deg, std::array<double, 3> axis,
+                        std::array<double, 3> target, bool negative, double longer_than_s,
+                        std::optional<std::pair<double, double>> time_window, int32_t after) {
+    OrientationPartSpec spec;
+    spec.bodies = std::move(bodies);
+    spec.within_deg = within_deg;
+    spec.axis = {axis[0], axis[1], axis[2]};
+    spec.target = {target[0], target[1], target[2]};
+    spec.negative = negative;
+    spec.longer_than_s = longer_than_s;
+    spec.time_window = time_window;
+    spec.after = after;
+    try {
+        return make_orientation_part(spec);
+    } catch (const std::invalid_argument& error) {
+        throw py::value_error(error.what());
+    }
+}
+
+// An open library's rotations for the index's pose parts, decoded when a query asks for them.
+// The index keeps the library alive (add_library's keep_alive).
+class LibraryRotations : public RotationSource {
+public:
+    explicit LibraryRotations(const PyLibrary& library) : library_(library) {}
+    BodyOrientations rotations_at_path_points(uint64_t world_index, const std::vector<uint32_t>& bodies) const override {
+        const auto lock = library_.read_lock();
+        const StoredWorld* world = library_.find(world_index);
+        if (!world) throw std::invalid_argument("world " + std::to_string(world_index) + " is not in the library");
+        return mwb::rotations_at_path_points(*world, bodies);
+    }
+
+private:
+    const PyLibrary& library_;
+};
+
 // What the index needs of the library's worlds it does not hold yet: at most `limit` (0: all), in
 // file order. Runs without the GIL, under the library's read lock.
 std::vector<IndexedWorldInput> new_worlds(const PathIndex& index, const PyLibrary& library, size_t limit) {
@@ -88,7 +123,16 @@ void bind_query(py::module_& m) {
         .def_readonly("negative", &QueryBox::negative)
         .def_readonly("bodies", &QueryBox::bodies)
         .def_readonly("swept", &QueryBox::swept)
-        .def_readonly("after", &QueryBox::after);
+        .def_readonly("after", &QueryBox::after)
+        .def_property_readonly("is_pose", [](const QueryBox& b) { return b.orientation.has_value(); },
+                               "whether this is a pose part (pose_part), not a screen box");
+    m.def("pose_part", &make_pose_part, py::arg("bodies"), py::arg("within_deg"), py::arg("axis") = std::array<double, 3>{0, 0, 1},
+          py::arg("target") = std::array<double, 3>{0, 0, 1}, py::arg("negative") = false, py::arg("longer_than_s") = 0.0,
+          py::arg("time_window") = py::none(), py::arg("after") = -1,
+          "A pose part of a goal, queried with boxes: each body's own `axis` (body frame) within `within_deg`\n"
+          "degrees of the world direction `target`, at every moment of time_window (s; None: the whole path).\n"
+          "negative: no body stays so for longer than longer_than_s instead. after: as for QueryBox.\n"
+          "An index answers it once filled with add_library (it reads the library's rotations).");
 
     py::class_<QueryResult>(m, "QueryResult", "What a query of boxes found, over every indexed world.")
         .def_property_readonly("world_indices", [](const QueryResult& r) { return as_numpy(r.world_indices); },
@@ -135,6 +179,7 @@ void bind_query(py::module_& m) {
                 }
                 const size_t count = inputs.size();
                 index.add_worlds(std::move(inputs), threads);
+                index.set_rotation_source(std::make_shared<LibraryRotations>(library));
                 return count;
             },
             py::arg("library"), py::arg("threads") = 0, py::arg("limit") = 0,

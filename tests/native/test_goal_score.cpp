@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
+#include <memory>
 
 #include "query/GoalScore.h"
 #include "query/PathIndex.h"
@@ -382,6 +384,116 @@ TEST(GoalScore, AWorldThatBrokeANegativePartIsCloserTheLaterItBroke) {
     EXPECT_NE(quarter_of_4s.search_key(), quarter_of_8s.search_key());
     EXPECT_EQ(early.search_key(), score_goal({meets_a, briefly_early}, radii, goal, goal_order(goal)).search_key());
     EXPECT_NE(early.search_key(), late.search_key());
+}
+
+TEST(GoalScore, APosePartOverSeveralBodiesIsNearerTheFewerOfThemAreOff) {
+    // Five dice that must end up: a world with one of them on its side scores nearer than one with
+    // all five on their sides, and the blame falls on the dice that are off.
+    const PathTree still = path_through({{0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}});
+    const std::vector<PathView> paths(5, still);
+    const std::vector<double> radii(5, 0.1);
+    const std::vector<QueryBox> goal{upright({0, 1, 2, 3, 4}, 20, {3, 4})};
+    const std::vector<Quat> up = turning_about_x(still.point_count(), 0, 0, 1);
+    const std::vector<Quat> side = turning_about_x(still.point_count(), 0, 90, 1);
+    const BodyOrientations one_off{up, up, side, up, up};
+    const BodyOrientations all_off{side, side, side, side, side};
+    const GoalScore one = score_goal(paths, radii, goal, goal_order(goal), true, &one_off);
+    const GoalScore five = score_goal(paths, radii, goal, goal_order(goal), true, &all_off);
+    EXPECT_EQ(one.boxes_met, 0u);
+    EXPECT_GT(one.closeness, five.closeness);
+    EXPECT_EQ(one.failing_bodies, (std::vector<uint32_t>{2}));
+    EXPECT_EQ(five.failing_bodies.size(), 5u);
+    // Four held count 1 each; the one on its side as it would alone.
+    const std::vector<QueryBox> alone{upright({2}, 20, {3, 4})};
+    const GoalScore single = score_goal(paths, radii, alone, goal_order(alone), true, &one_off);
+    EXPECT_NEAR(one.closeness, (4 + single.closeness) / 5, 1e-12);
+    EXPECT_NEAR(five.closeness, single.closeness, 1e-12);
+}
+
+TEST(GoalScore, WorldsBreakingANegativePoseTogetherAreToldApartByHowManyBodiesBreakIt) {
+    // Eight pins that must all be down in the last second (none within 45° of up for longer than
+    // 0.25 s). Those still standing broke it since the start; a world with one standing pin is
+    // nearer than one with all eight, and the search is told to branch from the start, when
+    // the pins still stood, not when the window opened.
+    const PathTree still = path_through({{0, 0}, {0, 0}, {0, 0}, {0, 0}, {0, 0}});
+    const std::vector<PathView> paths(8, still);
+    const std::vector<double> radii(8, 0.1);
+    const std::vector<QueryBox> goal{upright({0, 1, 2, 3, 4, 5, 6, 7}, 45, {3, 4}, {0, 0, 1}, true, 0.25)};
+    const std::vector<Quat> standing = turning_about_x(still.point_count(), 0, 0, 1);
+    const std::vector<Quat> fallen = turning_about_x(still.point_count(), 0, 90, 1);
+    BodyOrientations one_standing(8, fallen);
+    one_standing[5] = standing;
+    const BodyOrientations all_standing(8, standing);
+    const GoalScore one = score_goal(paths, radii, goal, goal_order(goal), true, &one_standing);
+    const GoalScore eight = score_goal(paths, radii, goal, goal_order(goal), true, &all_standing);
+    EXPECT_EQ(one.boxes_met, 0u);
+    EXPECT_DOUBLE_EQ(one.violation_time_s, 0.0);
+    EXPECT_DOUBLE_EQ(eight.violation_time_s, 0.0);
+    EXPECT_EQ(one.failing_bodies, (std::vector<uint32_t>{5}));
+    EXPECT_GT(one.violation_closeness, eight.violation_closeness);
+    EXPECT_GT(one.value(), eight.value());
+    EXPECT_NE(one.search_key(), eight.search_key());
+    // A pin that fell and rolled back up at 2 s broke it then.
+    BodyOrientations rolled_back(8, fallen);
+    rolled_back[3] = turning_about_x(still.point_count(), 90, 0, 2);
+    const GoalScore late = score_goal(paths, radii, goal, goal_order(goal), true, &rolled_back);
+    EXPECT_NEAR(late.failure_time_s, 2.0 * 45 / 90, 1.0 / 30 + 1e-9);
+    // All down: met.
+    const BodyOrientations none_standing(8, fallen);
+    EXPECT_EQ(score_goal(paths, radii, goal, goal_order(goal), true, &none_standing).boxes_met, 1u);
+}
+
+// Rotations a test hands the index: per world, one list of rotations for every body.
+class FixedRotations : public RotationSource {
+public:
+    explicit FixedRotations(std::map<uint64_t, BodyOrientations> worlds) : worlds_(std::move(worlds)) {}
+    BodyOrientations rotations_at_path_points(uint64_t world, const std::vector<uint32_t>&) const override {
+        return worlds_.at(world);
+    }
+
+private:
+    std::map<uint64_t, BodyOrientations> worlds_;
+};
+
+TEST(PathIndex, PosePartsAreQueriedWithBoxesFromItsRotationSource) {
+    // Two worlds of one body moving right at 1 m/s: in world 0 it ends upright, in world 1 on its side.
+    const PathTree path = path_through({{0, 0.5}, {1, 0.5}, {2, 0.5}, {3, 0.5}});
+    PathIndex index({0.1});
+    std::vector<IndexedWorldInput> worlds;
+    for (uint64_t w : {0, 1}) {
+        IndexedWorldInput in;
+        in.world_index = w;
+        in.stride = 4;
+        in.last_frame = 360;
+        in.record_hz = 120;
+        std::vector<float> points;
+        for (size_t k = 0; k < path.point_count(); ++k) {
+            const Vec3 p = path.point(k);
+            points.insert(points.end(), {static_cast<float>(p[0]), static_cast<float>(p[1]), static_cast<float>(p[2])});
+        }
+        in.polylines = {points};
+        in.final_orientations = {Quat{1, 0, 0, 0}};
+        worlds.push_back(std::move(in));
+    }
+    index.add_worlds(std::move(worlds), 1);
+    const std::vector<QueryBox> goal{box(2.5, 3.5, 0, 1, {0}), upright({0}, 20, {2, 3})};
+    EXPECT_THROW(index.query(goal), std::invalid_argument);  // no rotations yet
+    const size_t n = path.point_count();
+    index.set_rotation_source(std::make_shared<FixedRotations>(std::map<uint64_t, BodyOrientations>{
+        {0, {turning_about_x(n, 0, 0, 1)}}, {1, {turning_about_x(n, 0, 90, 1)}}}));
+    const QueryResult both = index.query(goal);
+    EXPECT_EQ(both.boxes_satisfied, (std::vector<uint32_t>{2, 1}));
+    EXPECT_EQ(both.matching, (std::vector<uint64_t>{0}));
+    // The same on two threads, and the parts-met ranking counts the pose part.
+    EXPECT_EQ(index.query(goal, 0, false, 2).boxes_satisfied, both.boxes_satisfied);
+    const auto ranked = index.rank("boxes_met", {}, Combine::Sum, true, nullptr, nullptr, &goal);
+    ASSERT_EQ(ranked.size(), 2u);
+    EXPECT_EQ(ranked[0], (std::pair<uint64_t, double>{0, 2.0}));
+    // Negative, it keeps the world that is not upright for longer than half a second.
+    const std::vector<QueryBox> not_upright{upright({0}, 20, {}, {0, 0, 1}, true, 0.5)};
+    EXPECT_EQ(index.query(not_upright).matching, (std::vector<uint64_t>{1}));
+    // A score reads the source too.
+    EXPECT_EQ(index.score(1, goal, goal_order(goal)).first_unmet, 1);
 }
 
 TEST(PathIndex, OrderedQueriesCountAlongTheOrder) {

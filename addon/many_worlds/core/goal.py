@@ -1,22 +1,27 @@
 """The goal of a seek as the file `mwb-engine seek --goal` reads, without bpy.
 
-A goal is a list of query boxes (BoxSpec) that a world must all meet; a box may have to be met
-after another one (BoxSpec.after, its position in the list). The file is JSON:
+A goal is a list of parts that a world must all meet: query boxes (BoxSpec) and pose parts
+(PoseSpec); a part may have to be met after another one (its `after`, a position in the list).
+The file is JSON:
 
     {"boxes": [{"view": [16], "projection": [16], "viewport": [w, h], "rect": [x0, y0, x1, y1],
                 "bodies": [i, ...], "negative": false, "swept": false,
-                "time_window": [t0_s, t1_s] or null, "after": null or a position in "boxes"}]}
+                "time_window": [t0_s, t1_s] or null, "after": null or a position}],
+     "orientations": [{"bodies": [i, ...], "axis": [x, y, z], "target": [x, y, z],
+                       "within_deg": d, "negative": false, "longer_than_s": s,
+                       "time_window": [t0_s, t1_s] or null, "after": null or a position}]}
 
 view and projection are row-major (world to camera, camera to clip, OpenGL); rect is in pixels
-from the viewport's bottom-left; bodies are the library scene's body indices. The engine also
-takes "objects" (names) in place of "bodies"; what is written here always names bodies.
+from the viewport's bottom-left; bodies are the library scene's body indices. Positions count
+the boxes first, then the orientation parts. The engine also takes "objects" (names) in place of
+"bodies"; what is written here always names bodies.
 """
 import json
 
 import numpy as np
 
 from .. import _native
-from .library_query import BoxSpec, native_box
+from .library_query import BoxSpec, PoseSpec, native_box
 
 
 def _checked(specs):
@@ -27,28 +32,53 @@ def _checked(specs):
         try:
             boxes.append(native_box(spec))
         except ValueError as error:
-            raise ValueError(f"box {k + 1} {error}") from None
+            noun = "pose part" if isinstance(spec, PoseSpec) else "box"
+            raise ValueError(f"{noun} {k + 1} {error}") from None
     _native.check_goal(boxes)
     return specs
 
 
-def goal_document(specs):
-    """The goal file's content (a dict) for the BoxSpecs `specs`, in their order.
+def file_order(specs):
+    """The positions of `specs` in the file: boxes first, then pose parts, each in list order."""
+    boxes = [k for k, spec in enumerate(specs) if not isinstance(spec, PoseSpec)]
+    poses = [k for k, spec in enumerate(specs) if isinstance(spec, PoseSpec)]
+    return boxes + poses
 
-    Raises ValueError, as the engine would refuse the goal: no boxes, a box the module refuses (no
-    bodies, a degenerate rectangle, a window that ends before it starts), an `after` that is the
-    box itself or outside the list, or an ordering cycle.
+
+def goal_document(specs):
+    """The goal file's content (a dict) for the BoxSpecs and PoseSpecs `specs`.
+
+    Raises ValueError, as the engine would refuse the goal: no parts, a part the module refuses
+    (no bodies, a degenerate rectangle, a tolerance outside 0 to 180 degrees, a window that ends
+    before it starts), an `after` that is the part itself or outside the list, or an ordering cycle.
     """
+    specs = _checked(specs)
+    order = file_order(specs)
+    position = {k: n for n, k in enumerate(order)}
+
+    def window_and_after(spec):
+        return {"time_window": [float(t) for t in spec.time_window] if spec.time_window is not None else None,
+                "after": position[int(spec.after)] if spec.after >= 0 else None}
+
     def box(spec):
         return {"view": np.asarray(spec.view, dtype=np.float64).reshape(16).tolist(),
                 "projection": np.asarray(spec.projection, dtype=np.float64).reshape(16).tolist(),
                 "viewport": [float(spec.size[0]), float(spec.size[1])],
                 "rect": [float(v) for v in spec.rect],
                 "bodies": [int(b) for b in spec.bodies],
-                "negative": bool(spec.negative), "swept": bool(spec.swept),
-                "time_window": [float(t) for t in spec.time_window] if spec.time_window is not None else None,
-                "after": int(spec.after) if spec.after >= 0 else None}
-    return {"boxes": [box(spec) for spec in _checked(specs)]}
+                "negative": bool(spec.negative), "swept": bool(spec.swept), **window_and_after(spec)}
+
+    def pose(spec):
+        return {"bodies": [int(b) for b in spec.bodies], "axis": [float(v) for v in spec.axis],
+                "target": [float(v) for v in spec.target], "within_deg": float(spec.within_deg),
+                "negative": bool(spec.negative), "longer_than_s": float(spec.longer_than_s),
+                **window_and_after(spec)}
+
+    document = {"boxes": [box(specs[k]) for k in order if not isinstance(specs[k], PoseSpec)]}
+    poses = [pose(specs[k]) for k in order if isinstance(specs[k], PoseSpec)]
+    if poses:
+        document["orientations"] = poses
+    return document
 
 
 def write_goal(path, specs):
@@ -61,23 +91,38 @@ def write_goal(path, specs):
 
 
 def goal_specs(document):
-    """The BoxSpecs of a goal file's content written by goal_document (bodies, not objects)."""
+    """The specs of a goal file's content written by goal_document (bodies, not objects): boxes,
+    then pose parts, as the file orders them."""
+    def window_of(part):
+        window = part.get("time_window")
+        return tuple(window) if window is not None else None
+
+    def after_of(part):
+        after = part.get("after")
+        return -1 if after is None else int(after)
+
     specs = []
     for k, box in enumerate(document.get("boxes", [])):
         if "bodies" not in box:
             raise ValueError(f"box {k + 1} names objects, not bodies: the library's scene resolves them")
-        window = box.get("time_window")
-        after = box.get("after")
         specs.append(BoxSpec(view=np.array(box["view"], dtype=np.float64).reshape(4, 4),
                              projection=np.array(box["projection"], dtype=np.float64).reshape(4, 4),
                              size=(box["viewport"][0], box["viewport"][1]), rect=tuple(box["rect"]),
                              negative=bool(box.get("negative", False)), bodies=tuple(box["bodies"]),
-                             time_window=tuple(window) if window is not None else None,
-                             swept=bool(box.get("swept", False)), after=-1 if after is None else int(after)))
+                             time_window=window_of(box), swept=bool(box.get("swept", False)), after=after_of(box)))
+    for k, part in enumerate(document.get("orientations", [])):
+        if "bodies" not in part:
+            raise ValueError(f"pose part {k + 1} names objects, not bodies: the library's scene resolves them")
+        specs.append(PoseSpec(bodies=tuple(part["bodies"]), within_deg=float(part["within_deg"]),
+                              axis=tuple(part.get("axis", (0.0, 0.0, 1.0))),
+                              target=tuple(part.get("target", (0.0, 0.0, 1.0))),
+                              negative=bool(part.get("negative", False)),
+                              longer_than_s=float(part.get("longer_than_s", 0.0)),
+                              time_window=window_of(part), after=after_of(part)))
     return _checked(specs)
 
 
 def read_goal(path):
-    """The BoxSpecs of the goal file at `path`."""
+    """The specs of the goal file at `path` (see goal_specs)."""
     with open(path) as f:
         return goal_specs(json.load(f))

@@ -136,4 +136,15 @@ std::vector<Quat> decode_rotations(const StoredWorld& world, size_t track, const
     return out;
 }
 
+std::vector<std::vector<Quat>> rotations_at_path_points(const StoredWorld& world, const std::vector<uint32_t>& bodies) {
+    std::vector<uint32_t> frames;
+    for (uint32_t k = 0; k < world.polyline_points; ++k)
+        frames.push_back(static_cast<uint32_t>(
+            std::min<uint64_t>(uint64_t{k} * world.polyline_stride, world.frame_count - 1)));
+    std::vector<std::vector<Quat>> out(world.tracks.size());
+    for (uint32_t body : bodies)
+        if (body < world.tracks.size() && world.tracks[body].present) out[body] = decode_rotations(world, body, frames);
+    return out;
+}
+
 }  // namespace mwb

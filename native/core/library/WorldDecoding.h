@@ -32,5 +32,8 @@ Transform decode_pose(const StoredWorld& world, size_t track, uint32_t frame);
 /// One track's orientations at `frames` (each as in decode_pose, and bit-identical to its), the
 /// track parsed once: sampling a path's points through decode_pose parses it once a point.
 std::vector<Quat> decode_rotations(const StoredWorld& world, size_t track, const std::vector<uint32_t>& frames);
+/// Per track, the rotations at the world's polyline points (the frames its paths sample) for the
+/// tracks `bodies` it has; empty for the others. Pose parts of a goal read these.
+std::vector<std::vector<Quat>> rotations_at_path_points(const StoredWorld& world, const std::vector<uint32_t>& bodies);
 
 }  // namespace mwb

@@ -148,6 +148,18 @@ bool stays_too_long(const std::pair<double, double>& stretch, const OrientationT
     return test.longer_than_s > 0 ? stretch.second - stretch.first > test.longer_than_s : true;
 }
 
+// When a body's stretch within the pose that is in the window at `from` began: it may have lain
+// so since before the window opened (a die that came to rest on the wrong face at 1 s failed
+// then, not when the last second began).
+double stretch_start(const PathView& path, const std::vector<Quat>& rotations, const OrientationTest& test, double from) {
+    const double tolerance = portable::cos(test.within_rad);
+    size_t k = 0;
+    while (k + 1 < path.point_count() && path.time_of(k + 1) <= from) ++k;
+    if (path.time_of(k) > from || alignment(test, rotations[k]) < tolerance) return from;
+    while (k > 0 && alignment(test, rotations[k - 1]) >= tolerance) --k;
+    return std::min(from, path.time_of(k));
+}
+
 // Whether the part is met, and when it failed (for the closeness and branch points).
 bool orientation_met(const std::vector<PathView>& paths, const BodyOrientations& orientations, const QueryBox& part,
                      double lo, double hi) {
@@ -177,28 +189,32 @@ void score_orientation_miss(const std::vector<PathView>& paths, const BodyOrient
     const OrientationTest& test = *part.orientation;
     const double tolerance = portable::cos(test.within_rad);
     if (part.negative) {
-        // Like a negative box: the share of the window's samples no body spends within.
+        // Per body, the share of the window's samples it spends out of the pose when it stays in
+        // too long (1 for a body that does not): one body lying on its back is nearer to the goal
+        // than eight, so a search has a slope to climb.
         std::vector<std::pair<double, uint32_t>> offences;
-        std::vector<double> within_times;
-        size_t samples = 0;
+        double sum = 0;
+        size_t counted = 0;
         for (uint32_t body : part.bodies) {
             if (!has_path(paths, body)) continue;
             const std::vector<Quat>& rotations = rotations_of(orientations, paths[body], body);
+            bool offends = false;
             for (const auto& stretch : stretches_within(paths[body], rotations, test, lo, hi))
                 if (stays_too_long(stretch, test)) {
-                    offences.emplace_back(stretch.first, body);
+                    offences.emplace_back(stretch_start(paths[body], rotations, test, stretch.first), body);
+                    offends = true;
                     break;
                 }
-            size_t body_samples = 0;
-            visit_samples(paths[body], lo, hi, [&](size_t k, double t) {
-                ++body_samples;
-                if (alignment(test, rotations[k]) >= tolerance) within_times.push_back(t);
+            size_t samples = 0, within = 0;
+            visit_samples(paths[body], lo, hi, [&](size_t k, double) {
+                ++samples;
+                within += alignment(test, rotations[k]) >= tolerance;
             });
-            samples = std::max(samples, body_samples);
+            if (samples == 0) continue;
+            sum += offends ? 1 - double(within) / double(samples) : 1.0;
+            ++counted;
         }
-        std::sort(within_times.begin(), within_times.end());
-        const auto within = static_cast<size_t>(std::unique(within_times.begin(), within_times.end()) - within_times.begin());
-        score.closeness = std::min(kMaxCloseness, samples > 0 ? 1 - std::min(1.0, double(within) / double(samples)) : 0.0);
+        score.closeness = counted > 0 ? std::min(kMaxCloseness, sum / double(counted)) : 0.0;
         std::sort(offences.begin(), offences.end());
         score.failure_time_s = offences.empty() ? std::max(lo, 0.0) : offences.front().first;
         for (const auto& [t, body] : offences) score.failing_bodies.push_back(body);
@@ -234,7 +250,17 @@ void score_orientation_miss(const std::vector<PathView>& paths, const BodyOrient
         score.failure_time_s = std::max(lo, 0.0);
         return;
     }
-    score.closeness = std::min(kMaxCloseness, 1 / (1 + worst));
+    // Each body held counts 1, each other 1 / (1 + its worst excess): one die off its face is
+    // nearer to the goal than five, so a search has a slope to climb.
+    double sum = 0;
+    size_t counted = 0;
+    for (uint32_t body : part.bodies)
+        if (has_path(paths, body)) {
+            const auto it = std::find_if(excesses.begin(), excesses.end(), [body](const auto& e) { return e.second == body; });
+            sum += it == excesses.end() ? 1.0 : 1 / (1 - it->first);
+            ++counted;
+        }
+    score.closeness = std::min(kMaxCloseness, sum / double(counted));
     std::sort(excesses.begin(), excesses.end());
     for (const auto& [e, body] : excesses) score.failing_bodies.push_back(body);
     // It went wrong where the worst body last turned out of tolerance before its worst moment.
@@ -246,10 +272,10 @@ void score_orientation_miss(const std::vector<PathView>& paths, const BodyOrient
 
 }  // namespace
 
-std::pair<long long, long long> GoalScore::search_key() const {
+std::array<long long, 3> GoalScore::search_key() const {
     const long long violated = std::isfinite(violation_time_s) ? std::llround(violation_time_s * 1000)
                                                                : std::numeric_limits<long long>::max();
-    return {std::llround(value() * 1000), violated};
+    return {std::llround(value() * 1000), violated, std::llround(violation_closeness * 1000)};
 }
 
 std::vector<size_t> goal_order(const std::vector<QueryBox>& boxes) {
@@ -350,9 +376,15 @@ GoalScore score_goal(const std::vector<PathView>& paths, const std::vector<doubl
         score.window_start_s = nearest.window_start_s;
         score.early_visit_s = nearest.early_visit_s;
     }
+    const GoalScore::Miss* violated = nullptr;
     for (const GoalScore::Miss& miss : score.misses)
-        if (boxes[static_cast<size_t>(miss.part)].negative)
-            score.violation_time_s = std::min(score.violation_time_s, miss.failure_time_s);
+        if (boxes[static_cast<size_t>(miss.part)].negative && miss.failure_time_s < score.violation_time_s) {
+            score.violation_time_s = miss.failure_time_s;
+            violated = &miss;
+        }
+    // A pose held too long is a state, not an event: worlds in which some of the bodies lie wrong
+    // when the window opens all break it then, and only how many of them do tells them apart.
+    if (violated && boxes[static_cast<size_t>(violated->part)].orientation) score.violation_closeness = violated->closeness;
     for (size_t k = 0; k < boxes.size(); ++k) {
         if (!score.met[k]) continue;
         const QueryBox& box = boxes[k];
@@ -371,6 +403,10 @@ GoalScore score_goal(const std::vector<PathView>& paths, const std::vector<doubl
         for (const PathView& path : paths)
             if (path.point_count() > 0) horizon = std::max(horizon, path.end_time_s());
         score.closeness = horizon > 0 ? std::clamp(score.violation_time_s / horizon, 0.0, kMaxCloseness) : 0.0;
+        // Within a thousandth of the paths' length (what a search tells apart), the pose part
+        // broken by fewer bodies is nearer.
+        if (score.violation_closeness > 0)
+            score.closeness = std::min(kMaxCloseness, (std::floor(score.closeness * 1000) + score.violation_closeness) / 1000);
     }
     return score;
 }

@@ -3,6 +3,7 @@
 // another. How far a world's paths get towards it: the parts met, counted along the order, and
 // how close it comes to the first part it misses. The browser's ordered queries and the goal
 // search both use this.
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <utility>
@@ -37,16 +38,20 @@ struct GoalScore {
     /// view_relative_distance of its bodies' paths within its window; a negative box the share of
     /// its window that no body spends inside; a positive orientation part 1 / (1 + e), e the
     /// worst excess of 1 - cos(angle) over its tolerance's, in tolerances; a negative one the
-    /// share of its window no body spends within. 0 when every part is met. For a world that
-    /// broke a negative part (violation_time_s finite), instead how late it broke: that time as a
-    /// share of its paths' length.
+    /// share of its window no body spends within. Over several bodies, a positive orientation
+    /// part averages each body's 1 / (1 + e) (1 for a body within), a negative one each body's
+    /// share of the window out of the pose (1 for a body not held too long). 0 when every part is
+    /// met. For a world that broke a negative part (violation_time_s finite), instead how late it
+    /// broke: that time as a share of its paths' length (then, for a pose part, to a thousandth,
+    /// plus a thousandth of violation_closeness).
     double closeness = 0;
     /// Where the first unmet box went wrong (seconds): for a positive box the first moment the
     /// nearest body was already about as near (within 5% + 0.02 box sizes) as it came in the
     /// window; for a negative box the first entry; for a positive orientation part the start of
-    /// the turn that ended at its worst moment; for a negative one when a body first stayed
-    /// within too long. And the bodies to blame: the one that came nearest, those that entered
-    /// (or stayed within), earliest first, or those out of tolerance, worst first.
+    /// the turn that ended at its worst moment; for a negative one when a body began the stay
+    /// that was too long (before the window opened if it lay so since then). And the bodies to
+    /// blame: the one that came nearest, those that entered (or stayed within), earliest first,
+    /// or those out of tolerance, worst first.
     double failure_time_s = 0;
     std::vector<uint32_t> failing_bodies;
     /// When that box's window opens, after the box it follows (seconds; 0 for the whole path).
@@ -75,16 +80,20 @@ struct GoalScore {
     /// mending the violation branches before it and re-runs what came after, so only these can be
     /// kept. boxes_met when no negative part is missed.
     uint32_t parts_before_violation = 0;
+    /// When that negative part is a pose part: how near it was to being kept (its closeness: the
+    /// share of the window each body spent out of the pose, averaged), which tells apart worlds
+    /// that broke it at the same moment. 0 otherwise.
+    double violation_closeness = 0;
 
     /// Orders worlds for a search: more parts met before the first violation, then closer to the
     /// next part. A tumble that goes all the way down after an arm poked out at the top counts no
     /// more than what it did before poking out.
     double value() const { return parts_before_violation + closeness; }
 
-    /// What tells two worlds apart for a search: the value to a thousandth of a part, and when
-    /// the first negative part was entered, to a millisecond. Worlds with the same key are for
-    /// the goal the same world; refining both would repeat work.
-    std::pair<long long, long long> search_key() const;
+    /// What tells two worlds apart for a search: the value to a thousandth of a part, when the
+    /// first negative part was entered, to a millisecond, and violation_closeness to a thousandth.
+    /// Worlds with the same key are for the goal the same world; refining both would repeat work.
+    std::array<long long, 3> search_key() const;
 };
 
 /// Scores one world given its body paths (one PathView per scene body, empty for bodies it lacks)

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <limits>
 #include <stdexcept>
 
@@ -27,6 +28,29 @@ bool sphere_outside(const Frustum& f, const std::array<float, 4>& s, double radi
 }  // namespace
 
 PathIndex::PathIndex(std::vector<double> body_radii_m) : body_radii_m_(std::move(body_radii_m)) {}
+
+std::vector<uint32_t> posed_bodies(const std::vector<QueryBox>& boxes) {
+    std::vector<uint32_t> bodies;
+    for (const QueryBox& box : boxes)
+        if (box.orientation) bodies.insert(bodies.end(), box.bodies.begin(), box.bodies.end());
+    std::sort(bodies.begin(), bodies.end());
+    bodies.erase(std::unique(bodies.begin(), bodies.end()), bodies.end());
+    return bodies;
+}
+
+void PathIndex::set_rotation_source(std::shared_ptr<const RotationSource> source) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    rotation_source_ = std::move(source);
+}
+
+std::shared_ptr<const RotationSource> PathIndex::rotations_for(const std::vector<QueryBox>& boxes) const {
+    if (std::none_of(boxes.begin(), boxes.end(), [](const QueryBox& b) { return b.orientation.has_value(); }))
+        return nullptr;
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!rotation_source_)
+        throw std::invalid_argument("the index has no rotations for pose parts: index the worlds from their library");
+    return rotation_source_;
+}
 
 PathView PathIndex::World::path(uint32_t body) const {
     if (!has_path(body)) return {};
@@ -174,11 +198,12 @@ bool PathIndex::world_satisfies(const World& world, const QueryBox& box, bool br
 QueryResult PathIndex::query(const std::vector<QueryBox>& boxes, uint64_t generation, bool brute_force,
                              int threads) const {
     const std::vector<const World*> worlds = snapshot();
-    const bool ordered = std::any_of(boxes.begin(), boxes.end(), [](const QueryBox& b) { return b.after >= 0; });
+    const std::shared_ptr<const RotationSource> rotations = rotations_for(boxes);
+    const std::vector<uint32_t> posed = posed_bodies(boxes);
+    // Pose parts have no trees: such a goal is scored world by world, as ordered boxes are.
+    const bool ordered = rotations || std::any_of(boxes.begin(), boxes.end(), [](const QueryBox& b) { return b.after >= 0; });
     const std::vector<size_t> order = goal_order(boxes);
     for (const QueryBox& box : boxes) {
-        if (box.orientation)
-            throw std::invalid_argument("the index has no rotations: orientation parts are for the goal search");
         for (uint32_t body : box.bodies)
             if (body >= body_radii_m_.size()) throw std::out_of_range("query box names body " + std::to_string(body));
     }
@@ -186,6 +211,8 @@ QueryResult PathIndex::query(const std::vector<QueryBox>& boxes, uint64_t genera
     // so the result does not depend on the thread count.
     std::vector<uint32_t> satisfied(worlds.size(), 0);
     std::atomic<bool> superseded{false};
+    std::exception_ptr error;
+    std::mutex error_mutex;
     const int thread_count = threads > 0 ? threads : omp_get_max_threads();
     const auto count = static_cast<std::ptrdiff_t>(worlds.size());
 #pragma omp parallel for num_threads(thread_count) schedule(dynamic, 64)
@@ -204,11 +231,23 @@ QueryResult PathIndex::query(const std::vector<QueryBox>& boxes, uint64_t genera
             for (int line = 0; line < 4; ++line) __builtin_prefetch(roots + 64 * line);
         }
         uint32_t met = 0;
-        if (ordered) met = score_goal(world.paths(), body_radii_m_, boxes, order, false).boxes_met;
+        if (ordered) {
+            // A world whose rotations cannot be read (a damaged track) stops the query with the
+            // reason, once the loop is done.
+            try {
+                BodyOrientations orientations;
+                if (rotations) orientations = rotations->rotations_at_path_points(world.world_index, posed);
+                met = score_goal(world.paths(), body_radii_m_, boxes, order, false, &orientations).boxes_met;
+            } catch (...) {
+                std::lock_guard<std::mutex> lock(error_mutex);
+                if (!error) error = std::current_exception();
+            }
+        }
         else
             for (const QueryBox& box : boxes) met += world_satisfies(world, box, brute_force);
         satisfied[static_cast<size_t>(k)] = met;
     }
+    if (error) std::rethrow_exception(error);
     QueryResult result;
     if (superseded.load()) {
         result.superseded = true;
@@ -299,6 +338,12 @@ GoalScore PathIndex::score(uint64_t world_index, const std::vector<QueryBox>& bo
                            const std::vector<size_t>& order, const BodyOrientations* orientations) const {
     const World* world = find(world_index);
     if (!world) throw std::out_of_range("world " + std::to_string(world_index) + " is not indexed");
+    BodyOrientations decoded;
+    if (!orientations)
+        if (const std::shared_ptr<const RotationSource> rotations = rotations_for(boxes)) {
+            decoded = rotations->rotations_at_path_points(world_index, posed_bodies(boxes));
+            orientations = &decoded;
+        }
     return score_goal(world->paths(), body_radii_m_, boxes, order, true, orientations);
 }
 

@@ -27,9 +27,9 @@ struct OrientationTest {
     double longer_than_s = 0;
 };
 
-/// One part of a goal: a screen-space query box, or (with `orientation`) a test of the bodies'
-/// orientation over the window, which has no frustum. Orientation parts are scored by the goal
-/// search, which has the worlds' rotations; the index's queries take boxes only.
+/// One part of a goal: a screen-space query box, or (with `orientation`, a pose part) a test of
+/// the bodies' orientation over the window, which has no frustum. The index reads pose parts'
+/// rotations from its RotationSource.
 struct QueryBox {
     Frustum frustum;
     bool negative = false;          ///< keep worlds where no chosen body's path enters
@@ -42,6 +42,16 @@ struct QueryBox {
     /// A positive orientation part is met when every body keeps within the test at every moment of
     /// the window; a negative one when none stays within for longer than longer_than_s.
     std::optional<OrientationTest> orientation;
+};
+
+/// Where an index finds its worlds' rotations, which it does not keep (a library decodes them on
+/// demand): pose parts read them. Called from the query's threads at once.
+class RotationSource {
+public:
+    virtual ~RotationSource() = default;
+    /// Per scene body, world `world_index`'s rotations at its path points for `bodies` (empty for
+    /// the other bodies and for bodies the world lacks).
+    virtual BodyOrientations rotations_at_path_points(uint64_t world_index, const std::vector<uint32_t>& bodies) const = 0;
 };
 
 /// A world's paths and metrics as handed to the index.
@@ -78,6 +88,10 @@ public:
     /// (for swept queries).
     explicit PathIndex(std::vector<double> body_radii_m);
 
+    /// Where pose parts find the worlds' rotations; without one, a query with a pose part throws
+    /// std::invalid_argument. Safe to call while queries run (they keep the source they started with).
+    void set_rotation_source(std::shared_ptr<const RotationSource> source);
+
     /// Builds the trees of `worlds` on `threads` threads (<= 0: all), then publishes them.
     /// Worlds already indexed are ignored. Safe to call while queries run on other threads.
     void add_worlds(std::vector<IndexedWorldInput> worlds, int threads = 0);
@@ -86,8 +100,8 @@ public:
     bool contains(uint64_t world_index) const;
     size_t memory_bytes() const;
 
-    /// Evaluates boxes (combined by AND, ordered boxes in their order, see GoalScore.h) over every
-    /// indexed world, split over `threads` (<= 0: all cores); the answer is the same on any
+    /// Evaluates boxes and pose parts (combined by AND, ordered parts in their order, see
+    /// GoalScore.h) over every indexed world, split over `threads` (<= 0: all cores); the answer is the same on any
     /// number. Throws std::invalid_argument for a bad order. If post_generation() is called with a
     /// newer number while it runs, it stops early and returns superseded. `brute_force` skips the
     /// trees (for tests and benchmarks).
@@ -109,7 +123,8 @@ public:
                                                   const std::vector<QueryBox>* boxes = nullptr) const;
 
     /// How far world `world_index` gets towards the goal `boxes` (order: goal_order(boxes)).
-    /// `orientations`: the world's rotations at its path points, needed by orientation parts.
+    /// `orientations`: the world's rotations at its path points for the pose parts' bodies; without
+    /// them, from the rotation source when a part needs them.
     GoalScore score(uint64_t world_index, const std::vector<QueryBox>& boxes, const std::vector<size_t>& order,
                     const BodyOrientations* orientations = nullptr) const;
 
@@ -149,6 +164,8 @@ private:
     std::vector<const World*> snapshot() const;
     const World* find(uint64_t world_index) const;
     bool world_satisfies(const World& world, const QueryBox& box, bool brute_force) const;
+    /// The rotation source, checked to be there when `boxes` has a pose part (nullptr otherwise).
+    std::shared_ptr<const RotationSource> rotations_for(const std::vector<QueryBox>& boxes) const;
 
     std::vector<double> body_radii_m_;
     mutable std::mutex mutex_;
@@ -156,6 +173,10 @@ private:
     std::vector<uint64_t> sorted_indices_;        ///< guarded by mutex_
     std::unordered_map<uint64_t, const World*> by_index_;  ///< guarded by mutex_
     std::atomic<uint64_t> latest_generation_{0};
+    std::shared_ptr<const RotationSource> rotation_source_;  ///< guarded by mutex_
 };
+
+/// The bodies the pose parts of `boxes` name, ascending.
+std::vector<uint32_t> posed_bodies(const std::vector<QueryBox>& boxes);
 
 }  // namespace mwb

@@ -29,18 +29,6 @@ std::vector<uint32_t> oriented_bodies(const std::vector<QueryBox>& boxes) {
     return {bodies.begin(), bodies.end()};
 }
 
-// Rotations of `bodies` at the world's path points (the frames its polyline samples), decoded
-// from the record.
-BodyOrientations orientations_at_path_points(const StoredWorld& w, const std::vector<uint32_t>& bodies) {
-    std::vector<uint32_t> frames;
-    for (uint32_t k = 0; k < w.polyline_points; ++k)
-        frames.push_back(static_cast<uint32_t>(std::min<uint64_t>(uint64_t{k} * w.polyline_stride, w.frame_count - 1)));
-    BodyOrientations out(w.tracks.size());
-    for (uint32_t body : bodies)
-        if (body < w.tracks.size() && w.tracks[body].present) out[body] = decode_rotations(w, body, frames);
-    return out;
-}
-
 }  // namespace
 
 ScoredWorlds::ScoredWorlds(LibraryReader& reader, const Scene& scene, const std::vector<QueryBox>& boxes, int threads)
@@ -98,7 +86,7 @@ std::vector<GoalScore> ScoredWorlds::score_worlds(const std::vector<uint64_t>& w
         const auto n = static_cast<size_t>(k);
         try {
             BodyOrientations orientations;
-            if (!oriented_bodies_.empty()) orientations = orientations_at_path_points(stored(worlds[n]), oriented_bodies_);
+            if (!oriented_bodies_.empty()) orientations = rotations_at_path_points(stored(worlds[n]), oriented_bodies_);
             scores[n] = index_.score(worlds[n], boxes_, order_, &orientations);
         } catch (...) {
             errors[n] = std::current_exception();

@@ -2,6 +2,7 @@
 // The worlds a goal search has seen, scored against the goal, best first; and the beam of those
 // it refines next.
 #include <cstdint>
+#include <array>
 #include <set>
 #include <unordered_map>
 #include <utility>
@@ -63,7 +64,7 @@ private:
     std::unordered_map<uint64_t, GoalScore> scores_;
     std::set<std::pair<double, uint64_t>> ranking_;  ///< (-value, world index): best first
     std::set<uint64_t> found_, spent_, set_aside_;
-    std::set<std::pair<long long, long long>> seen_values_;  ///< GoalScore::search_key of the worlds kept
+    std::set<std::array<long long, 3>> seen_values_;  ///< GoalScore::search_key of the worlds kept
     uint64_t sampled_ = 0, sampled_found_ = 0;  ///< sampled worlds scored, and of them those meeting the goal
     std::vector<uint64_t> sampled_meeting_;      ///< per part, the sampled worlds meeting it
 };
