@@ -7,6 +7,7 @@
 #include <exception>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 namespace mwb {
 namespace {
@@ -195,18 +196,41 @@ bool PathIndex::world_satisfies(const World& world, const QueryBox& box, bool br
     return entered != box.negative;
 }
 
+namespace {
+
+// What decides a pose part's answer for a world, as bytes: two parts with the same key are met
+// by the same worlds (when neither is ordered).
+std::string pose_key(const QueryBox& part) {
+    const OrientationTest& test = *part.orientation;
+    const double numbers[] = {test.axis[0],   test.axis[1],   test.axis[2],        test.target[0],
+                              test.target[1], test.target[2], test.within_rad,     test.longer_than_s,
+                              part.window.lo_s, part.window.hi_s, part.negative ? 1.0 : 0.0};
+    std::string key(reinterpret_cast<const char*>(numbers), sizeof numbers);
+    key.append(reinterpret_cast<const char*>(part.bodies.data()), part.bodies.size() * sizeof(uint32_t));
+    return key;
+}
+
+}  // namespace
+
 QueryResult PathIndex::query(const std::vector<QueryBox>& boxes, uint64_t generation, bool brute_force,
                              int threads) const {
     const std::vector<const World*> worlds = snapshot();
     const std::shared_ptr<const RotationSource> rotations = rotations_for(boxes);
     const std::vector<uint32_t> posed = posed_bodies(boxes);
-    // Pose parts have no trees: such a goal is scored world by world, as ordered boxes are.
-    const bool ordered = rotations || std::any_of(boxes.begin(), boxes.end(), [](const QueryBox& b) { return b.after >= 0; });
+    // Ordered parts are scored world by world along the order; otherwise boxes go through the
+    // trees, and each pose part (which has no tree) on its own, its answers kept for the next
+    // query: dragging a box beside a pose part does not decode the rotations again.
+    const bool ordered = std::any_of(boxes.begin(), boxes.end(), [](const QueryBox& b) { return b.after >= 0; });
     const std::vector<size_t> order = goal_order(boxes);
     for (const QueryBox& box : boxes) {
         for (uint32_t body : box.bodies)
             if (body >= body_radii_m_.size()) throw std::out_of_range("query box names body " + std::to_string(body));
     }
+    // Per pose part (unordered goals only), per world: met (1), not (0) or not known yet (-1).
+    std::vector<std::vector<int8_t>> pose_met(boxes.size());
+    if (!ordered)
+        for (size_t p = 0; p < boxes.size(); ++p)
+            if (boxes[p].orientation) pose_met[p] = recalled_pose_answers(boxes[p], worlds);
     // Each world's count is written to its own slot and the answer is assembled in world order,
     // so the result does not depend on the thread count.
     std::vector<uint32_t> satisfied(worlds.size(), 0);
@@ -221,33 +245,47 @@ QueryResult PathIndex::query(const std::vector<QueryBox>& boxes, uint64_t genera
         if (k % 64 == 0 && generation != 0 && latest_generation_.load(std::memory_order_relaxed) > generation)
             superseded.store(true, std::memory_order_relaxed);
         if (superseded.load(std::memory_order_relaxed)) continue;
-        const World& world = *worlds[static_cast<size_t>(k)];
+        const auto slot = static_cast<size_t>(k);
+        const World& world = *worlds[slot];
         // The query waits on memory, not arithmetic: start loading the next worlds' roots (and the
         // world after's object, which says where its roots are) while this one is tested.
-        if (k + 2 < count) __builtin_prefetch(worlds[static_cast<size_t>(k) + 2]);
+        if (k + 2 < count) __builtin_prefetch(worlds[slot + 2]);
         if (k + 1 < count) {
-            const World& next = *worlds[static_cast<size_t>(k) + 1];
+            const World& next = *worlds[slot + 1];
             const char* roots = reinterpret_cast<const char*>(next.roots.data());
             for (int line = 0; line < 4; ++line) __builtin_prefetch(roots + 64 * line);
         }
         uint32_t met = 0;
-        if (ordered) {
-            // A world whose rotations cannot be read (a damaged track) stops the query with the
-            // reason, once the loop is done.
-            try {
+        // A world whose rotations cannot be read (a damaged track) stops the query with the
+        // reason, once the loop is done.
+        try {
+            if (ordered) {
                 BodyOrientations orientations;
                 if (rotations) orientations = rotations->rotations_at_path_points(world.world_index, posed);
                 met = score_goal(world.paths(), body_radii_m_, boxes, order, false, &orientations).boxes_met;
-            } catch (...) {
-                std::lock_guard<std::mutex> lock(error_mutex);
-                if (!error) error = std::current_exception();
-            }
+            } else
+                for (size_t p = 0; p < boxes.size(); ++p) {
+                    if (!boxes[p].orientation) {
+                        met += world_satisfies(world, boxes[p], brute_force);
+                        continue;
+                    }
+                    int8_t& known = pose_met[p][slot];
+                    if (known < 0) {
+                        const BodyOrientations orientations =
+                            rotations->rotations_at_path_points(world.world_index, boxes[p].bodies);
+                        known = score_goal(world.paths(), body_radii_m_, {boxes[p]}, {0}, false, &orientations).boxes_met;
+                    }
+                    met += static_cast<uint32_t>(known);
+                }
+        } catch (...) {
+            std::lock_guard<std::mutex> lock(error_mutex);
+            if (!error) error = std::current_exception();
         }
-        else
-            for (const QueryBox& box : boxes) met += world_satisfies(world, box, brute_force);
-        satisfied[static_cast<size_t>(k)] = met;
+        satisfied[slot] = met;
     }
     if (error) std::rethrow_exception(error);
+    for (size_t p = 0; p < boxes.size(); ++p)
+        if (!pose_met[p].empty()) remember_pose_answers(boxes[p], worlds, pose_met[p]);
     QueryResult result;
     if (superseded.load()) {
         result.superseded = true;
@@ -260,6 +298,32 @@ QueryResult PathIndex::query(const std::vector<QueryBox>& boxes, uint64_t genera
         if (result.boxes_satisfied[k] == boxes.size()) result.matching.push_back(worlds[k]->world_index);
     }
     return result;
+}
+
+std::vector<int8_t> PathIndex::recalled_pose_answers(const QueryBox& part, const std::vector<const World*>& worlds) const {
+    std::vector<int8_t> met(worlds.size(), -1);
+    std::lock_guard<std::mutex> lock(memo_mutex_);
+    const auto it = pose_answers_.find(pose_key(part));
+    if (it == pose_answers_.end()) return met;
+    for (size_t k = 0; k < worlds.size(); ++k) {
+        const auto known = it->second.find(worlds[k]->world_index);
+        if (known != it->second.end()) met[k] = static_cast<int8_t>(known->second);
+    }
+    return met;
+}
+
+void PathIndex::remember_pose_answers(const QueryBox& part, const std::vector<const World*>& worlds,
+                                      const std::vector<int8_t>& met) const {
+    std::lock_guard<std::mutex> lock(memo_mutex_);
+    const std::string key = pose_key(part);
+    auto it = pose_answers_.find(key);
+    if (it == pose_answers_.end()) {
+        // The parts of the goal being edited and a few before: an animator tries tolerances.
+        if (pose_answers_.size() >= kRememberedPoseParts) pose_answers_.clear();
+        it = pose_answers_.emplace(key, std::unordered_map<uint64_t, uint8_t>{}).first;
+    }
+    for (size_t k = 0; k < worlds.size(); ++k)
+        if (met[k] >= 0) it->second[worlds[k]->world_index] = static_cast<uint8_t>(met[k]);
 }
 
 std::vector<std::pair<uint64_t, double>> PathIndex::rank(const std::string& metric, const std::vector<uint32_t>& bodies,

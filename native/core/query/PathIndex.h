@@ -89,7 +89,9 @@ public:
     explicit PathIndex(std::vector<double> body_radii_m);
 
     /// Where pose parts find the worlds' rotations; without one, a query with a pose part throws
-    /// std::invalid_argument. Safe to call while queries run (they keep the source they started with).
+    /// std::invalid_argument. Safe to call while queries run (they keep the source they started
+    /// with). A new source must give the same rotations for a world as the one before (the same
+    /// library): answers found with it are kept.
     void set_rotation_source(std::shared_ptr<const RotationSource> source);
 
     /// Builds the trees of `worlds` on `threads` threads (<= 0: all), then publishes them.
@@ -166,6 +168,12 @@ private:
     bool world_satisfies(const World& world, const QueryBox& box, bool brute_force) const;
     /// The rotation source, checked to be there when `boxes` has a pose part (nullptr otherwise).
     std::shared_ptr<const RotationSource> rotations_for(const std::vector<QueryBox>& boxes) const;
+    /// Per world of `worlds`, whether it meets the (unordered) pose part as a query found before:
+    /// 1, 0, or -1 when no query did.
+    std::vector<int8_t> recalled_pose_answers(const QueryBox& part, const std::vector<const World*>& worlds) const;
+    /// Keeps the answers found (those not -1) for the next query with the same part.
+    void remember_pose_answers(const QueryBox& part, const std::vector<const World*>& worlds,
+                               const std::vector<int8_t>& met) const;
 
     std::vector<double> body_radii_m_;
     mutable std::mutex mutex_;
@@ -174,6 +182,11 @@ private:
     std::unordered_map<uint64_t, const World*> by_index_;  ///< guarded by mutex_
     std::atomic<uint64_t> latest_generation_{0};
     std::shared_ptr<const RotationSource> rotation_source_;  ///< guarded by mutex_
+    /// Pose parts' answers by part (its bytes) and world: a world's rotations never change, so a
+    /// part asked again is answered without decoding them. At most kRememberedPoseParts parts.
+    static constexpr size_t kRememberedPoseParts = 16;
+    mutable std::mutex memo_mutex_;
+    mutable std::unordered_map<std::string, std::unordered_map<uint64_t, uint8_t>> pose_answers_;  ///< guarded by memo_mutex_
 };
 
 /// The bodies the pose parts of `boxes` name, ascending.
