@@ -153,11 +153,18 @@ class QueryBox:
     negative: bool
     bodies: List[int]
     swept: bool
-    after: int  # position of the box this one must be met after, among the boxes queried together; -1: none
+    after: int  # position of the part this one must be met after, among the parts queried together; -1: none
+    is_pose: bool  # a pose part (pose_part), not a screen box
     def __init__(self, view: np.ndarray, projection: np.ndarray, viewport: Tuple[float, float],
                  rect: Sequence[float], negative: bool = False, bodies: Sequence[int] = ...,
                  time_window: Optional[Tuple[float, float]] = None, swept: bool = False,
                  after: int = -1) -> None: ...
+
+def pose_part(bodies: Sequence[int], within_deg: float, axis: Tuple[float, float, float] = (0, 0, 1),
+              target: Tuple[float, float, float] = (0, 0, 1), negative: bool = False, longer_than_s: float = 0.0,
+              time_window: Optional[Tuple[float, float]] = None, after: int = -1) -> QueryBox:
+    """Each body's own `axis` within `within_deg` of the world direction `target` over the window;
+    negative: none held so for longer than longer_than_s. Queried by an index filled with add_library."""
 
 class RankingMetric:
     name: str

@@ -10,9 +10,11 @@ Commands (run `... -- help` for the options):
     sample   sample worlds of the open .blend into a library (the engine runs as a child process)
     merge    merge libraries of one run into a new one
     info     worlds, bodies, sizes, rejections and the scene hash of a library
-    query    worlds whose paths enter (or avoid) boxes drawn in the scene camera's view
+    query    worlds whose paths enter (or avoid) boxes drawn in the scene camera's view, and whose
+             objects hold (or avoid) poses
     rank     worlds sorted by a metric
-    seek     refine a library's worlds until some meet every box (the engine runs as a child process)
+    seek     refine a library's worlds until some meet every box and pose (the engine runs as a child
+             process)
     bake     write one world as keyframes and save the result as a new .blend
     preview  a contact sheet PNG of chosen worlds: the scene rendered from its camera at each world's
              last frame, the paths over it, a legend of the objects' colours
@@ -22,6 +24,7 @@ A user mistake prints one line starting with "many_worlds: error:" and exits wit
 import argparse
 import json
 import os
+import re
 import signal
 import sys
 import tempfile
@@ -37,10 +40,10 @@ if __name__ == "__main__":
 import numpy as np  # noqa: E402
 
 from . import _native  # noqa: E402
-from .core import contact_sheet, engine, export_warnings, goal, palette, paths  # noqa: E402
+from .core import contact_sheet, engine, export_warnings, goal, palette, paths, pose_target  # noqa: E402
 from .core.progress_printer import ProgressPrinter  # noqa: E402
 from .core.library_view import LibraryView  # noqa: E402
-from .core.library_query import BOXES_MET, BoxSpec, LibraryQuery, metric_name  # noqa: E402
+from .core.library_query import BOXES_MET, BoxSpec, LibraryQuery, PoseSpec, metric_name  # noqa: E402
 
 METRICS = tuple(m.name for m in _native.ranking_metrics())
 
@@ -249,69 +252,123 @@ def camera_view(name):
     return np.array(camera.matrix_world.inverted()), np.array(projection), (width, height)
 
 
-def parse_after(text, box, count):
-    """--after N of box `box` (0-based) among `count` boxes: N counts boxes from 1 in command-line
-    order. Returns the 0-based position."""
+def parse_after(text, part, count):
+    """--after N of part `part` (0-based) among `count` parts: N counts the --box and --pose groups
+    from 1 in command-line order. Returns the 0-based position."""
     try:
         after = int(text)
     except ValueError:
-        raise CliError(f"--after: expected a box number, got '{text}'")
+        raise CliError(f"--after: expected a part number, got '{text}'")
     if not 1 <= after <= count:
-        raise CliError(f"--after {text}: there is no box {text} (boxes are numbered 1 to {count})")
-    if after == box + 1:
-        raise CliError(f"--after {text}: box {after} cannot be met after itself")
+        raise CliError(f"--after {text}: there is no part {text} (--box and --pose are numbered 1 to {count})")
+    if after == part + 1:
+        raise CliError(f"--after {text}: part {after} cannot be met after itself")
     return after - 1
 
 
-def parse_boxes(args, view):
-    """The --box groups: each --box starts a box; --negative/--objects/--time/--swept/--after after
-    it refine it."""
-    boxes = []
-    for k, spec in enumerate(args.box_specs):
+def parse_window(spec):
+    window = tuple(parse_numbers(spec["time"], 2, "--time")) if spec.get("time") else None
+    if window and window[0] > window[1]:
+        raise CliError(f"--time: start after end in '{spec['time']}'")
+    return window
+
+
+def object_rotation(name, frame):
+    """The 3x3 world rotation of object `name` at `frame` of the open scene (scale removed)."""
+    import bpy
+    scene = bpy.context.scene
+    current = scene.frame_current
+    try:
+        scene.frame_set(frame)
+        return np.array(bpy.data.objects[name].matrix_world.to_quaternion().to_matrix())
+    finally:
+        scene.frame_set(current)
+
+
+def pose_spec(spec, view, after):
+    """The PoseSpec of a --pose group."""
+    bodies = body_indices(view, spec["pose"])
+    if spec.get("within") is None:
+        raise CliError(f"--pose {spec['pose']}: give its tolerance with --within DEG")
+    try:
+        within = float(spec["within"])
+    except ValueError:
+        raise CliError(f"--within: expected degrees, got '{spec['within']}'")
+    axis = tuple(parse_numbers(spec["axis"], 3, "--axis")) if spec.get("axis") else None
+    target = tuple(parse_numbers(spec["target"], 3, "--target")) if spec.get("target") else (0.0, 0.0, 1.0)
+    if spec.get("as_posed") is not None:
+        if spec.get("target"):
+            raise CliError("--as-posed and --target both give the direction: use one")
+        names = [view.body_names[b] for b in bodies]
+        if len(names) != 1:
+            raise CliError(f"--as-posed: name one object per --pose (each keeps its own pose), got {', '.join(names)}")
+        try:
+            frame = int(spec["as_posed"])
+        except ValueError:
+            raise CliError(f"--as-posed: expected a frame number, got '{spec['as_posed']}'")
+        rotation = object_rotation(names[0], frame)
+        if axis is None:
+            # The side that faces up at that frame stays up.
+            axis, target = pose_target.captured_axis(rotation), pose_target.UP
+        else:
+            target = tuple(float(v) for v in rotation @ np.asarray(axis))
+    longer = 0.0
+    if spec.get("longer_than") is not None:
+        if not spec.get("negative"):
+            raise CliError("--longer-than applies to a --negative pose: how long it may be held")
+        try:
+            longer = float(spec["longer_than"])
+        except ValueError:
+            raise CliError(f"--longer-than: expected seconds, got '{spec['longer_than']}'")
+    return PoseSpec(bodies=tuple(bodies), within_deg=within, axis=axis or (0.0, 0.0, 1.0), target=target,
+                    negative=spec.get("negative", False), longer_than_s=longer, time_window=parse_window(spec),
+                    after=after)
+
+
+def goal_specs(args, view):
+    """The --box and --pose groups as BoxSpecs (in the camera's view, pixels at the render
+    resolution) and PoseSpecs, in command-line order."""
+    parts = args.goal_parts
+    camera = None
+    specs = []
+    for k, spec in enumerate(parts):
+        after = parse_after(spec["after"], k, len(parts)) if spec.get("after") is not None else -1
+        if "pose" in spec:
+            specs.append(pose_spec(spec, view, after))
+            continue
         x0, y0, x1, y1 = parse_numbers(spec["box"], 4, "--box")
         if not all(0 <= v <= 1 for v in (x0, y0, x1, y1)):
             raise CliError(f"--box: coordinates are fractions of the camera view in [0, 1], got '{spec['box']}'")
-        window = tuple(parse_numbers(spec["time"], 2, "--time")) if spec.get("time") else None
-        if window and window[0] > window[1]:
-            raise CliError(f"--time: start after end in '{spec['time']}'")
-        after = parse_after(spec["after"], k, len(args.box_specs)) if spec.get("after") is not None else -1
-        boxes.append(dict(rect=(x0, y0, x1, y1), negative=spec.get("negative", False),
-                          bodies=body_indices(view, spec.get("objects") or getattr(args, "objects", None)),
-                          time_window=window, swept=spec.get("swept", False), after=after))
-    return boxes
+        if camera is None:
+            camera = camera_view(args.camera)
+        view_matrix, projection, (width, height) = camera
+        specs.append(BoxSpec(view=view_matrix, projection=projection, size=(width, height),
+                             rect=(x0 * width, y0 * height, x1 * width, y1 * height),
+                             negative=spec.get("negative", False),
+                             bodies=tuple(body_indices(view, spec.get("objects") or getattr(args, "objects", None))),
+                             time_window=parse_window(spec), swept=spec.get("swept", False), after=after))
+    return specs
 
 
-def box_specs(args, view):
-    """The --box groups as BoxSpecs in the camera's view (pixels at the render resolution)."""
-    boxes = parse_boxes(args, view)
-    if not boxes:
-        return []
-    view_matrix, projection, (width, height) = camera_view(args.camera)
-    return [BoxSpec(view=view_matrix, projection=projection, size=(width, height),
-                    rect=(b["rect"][0] * width, b["rect"][1] * height, b["rect"][2] * width, b["rect"][3] * height),
-                    negative=b["negative"], bodies=tuple(b["bodies"]), time_window=b["time_window"],
-                    swept=b["swept"], after=b["after"]) for b in boxes]
-
-
-def evaluate_boxes(args, view):
-    """(LibraryQuery over every world, QueryResult of the --box groups or None without boxes).
-    Like the add-on, a box never sees bodies a world lacks."""
-    specs = box_specs(args, view)
-    if not specs:
-        return LibraryQuery(_native, view), None
+def evaluate_goal(args, view):
+    """(LibraryQuery over every world, QueryResult of the --box and --pose groups, or None
+    without any). Like the add-on, a part never sees bodies a world lacks."""
+    specs = goal_specs(args, view)
     lq = LibraryQuery(_native, view)
+    if not specs:
+        return lq, None
     try:
         return lq, lq.evaluate(specs)
     except ValueError as error:
-        raise CliError(f"--box: {error}")
+        raise CliError(str(error))
 
 
 def command_query(args):
     view = open_view(args.library)
     check_library_matches_scene(view, args.library)
-    if not args.box_specs:
-        raise CliError("query needs at least one --box")
-    _, result = evaluate_boxes(args, view)
+    if not args.goal_parts:
+        raise CliError("query needs at least one --box or --pose")
+    _, result = evaluate_goal(args, view)
     matching = sorted(int(w) for w, m in zip(view.world_indices, result.matching) if m)
     if args.json:
         print(json.dumps({"worlds": len(view.world_indices), "matching": matching}))
@@ -328,12 +385,12 @@ def command_rank(args):
     if args.metric not in METRICS:
         raise CliError(f"unknown metric {args.metric!r} (one of: {', '.join(METRICS)})")
     bodies = body_indices(view, args.objects)
-    if args.box_specs:
+    if args.goal_parts:
         check_library_matches_scene(view, args.library)
-    lq, result = evaluate_boxes(args, view)
+    lq, result = evaluate_goal(args, view)
     if args.metric == BOXES_MET:
         if result is None:
-            raise CliError("boxes_met ranks by boxes: give at least one --box")
+            raise CliError("boxes_met counts the goal's parts: give at least one --box or --pose")
         ids, values = lq.rank(BOXES_MET, bodies, descending=not args.asc)
     else:
         # Without boxes every world matches; with them, only the matching worlds are ranked.
@@ -347,8 +404,8 @@ def command_rank(args):
 # --- seek ---------------------------------------------------------------------------------
 
 def command_seek(args):
-    if not args.box_specs:
-        raise CliError("seek needs at least one --box (the goal)")
+    if not args.goal_parts:
+        raise CliError("seek needs at least one --box or --pose (the goal)")
     for option, value in (("--want", args.want), ("--budget", args.budget)):
         if value < 1:
             raise CliError(f"{option}: expected at least 1, got {value}")
@@ -356,7 +413,7 @@ def command_seek(args):
         raise CliError(f"--budget-s: expected a positive number of seconds, got {args.budget_s}")
     view = open_view(args.library)
     check_library_matches_scene(view, args.library)
-    specs = box_specs(args, view)
+    specs = goal_specs(args, view)
     with tempfile.TemporaryDirectory(prefix="mwb-seek-") as folder:
         try:
             goal_path = goal.write_goal(os.path.join(folder, "goal.json"), specs)
@@ -432,43 +489,74 @@ def command_preview(args):
 
 # --- argument parsing -----------------------------------------------------------------------
 
-class BoxAction(argparse.Action):
-    """Collects repeatable box groups in order."""
+# Options that say more of the last --box or --pose, and which of the two each applies to.
+BOX_ONLY = {"--swept": "swept", "--objects": "objects"}
+POSE_ONLY = {"--within": "within", "--axis": "axis", "--target": "target", "--as-posed": "as_posed",
+             "--longer-than": "longer_than"}
+EITHER = {"--negative": "negative", "--time": "time", "--after": "after"}
+
+
+class GoalPartAction(argparse.Action):
+    """Collects the repeatable --box and --pose groups in order; the options after one say more
+    of it."""
 
     def __call__(self, parser, namespace, values, option_string=None):
-        specs = getattr(namespace, "box_specs", None) or []
-        if option_string == "--box":
-            specs.append({"box": values})
-        elif not specs:
-            raise argparse.ArgumentError(self, "comes before any --box")
-        elif option_string == "--negative":
-            specs[-1]["negative"] = True
-        elif option_string == "--swept":
-            specs[-1]["swept"] = True
-        elif option_string == "--objects":
-            specs[-1]["objects"] = values
-        elif option_string == "--time":
-            specs[-1]["time"] = values
-        elif option_string == "--after":
-            specs[-1]["after"] = values
-        namespace.box_specs = specs
+        parts = getattr(namespace, "goal_parts", None) or []
+        if option_string in ("--box", "--pose"):
+            parts.append({option_string[2:]: values})
+            namespace.goal_parts = parts
+            return
+        if not parts:
+            raise argparse.ArgumentError(self, "comes before any --box or --pose")
+        last = parts[-1]
+        kind = "pose" if "pose" in last else "box"
+        if option_string in BOX_ONLY and kind == "pose":
+            raise argparse.ArgumentError(self, "applies to a --box, not to a --pose")
+        if option_string in POSE_ONLY and kind == "box":
+            raise argparse.ArgumentError(self, "applies to a --pose, not to a --box")
+        key = {**BOX_ONLY, **POSE_ONLY, **EITHER}[option_string]
+        last[key] = True if self.nargs == 0 else values
 
 
-def add_box_options(parser, objects_help=None):
-    parser.set_defaults(box_specs=[])
+def add_goal_options(parser, objects_help=None):
+    parser.set_defaults(goal_parts=[])
     parser.add_argument("--camera", default="Camera", help="camera the boxes are drawn in (default: Camera)")
-    parser.add_argument("--box", action=BoxAction, metavar="X0,Y0,X1,Y1",
+    parser.add_argument("--box", action=GoalPartAction, metavar="X0,Y0,X1,Y1",
                         help="a box in camera-view fractions (0..1, origin bottom-left); repeatable")
-    parser.add_argument("--negative", action=BoxAction, nargs=0, help="the last box rejects worlds entering it")
-    parser.add_argument("--swept", action=BoxAction, nargs=0, help="the last box tests whole bodies, not centres")
-    parser.add_argument("--time", action=BoxAction, metavar="T0,T1", help="the last box applies between T0 and T1 s")
-    parser.add_argument("--after", action=BoxAction, metavar="N",
-                        help="the last box counts only when met after box N (boxes numbered from 1 in order)")
+    parser.add_argument("--swept", action=GoalPartAction, nargs=0, help="the last box tests whole bodies, not centres")
     if objects_help:
-        parser.add_argument("--objects", action=BoxAction, metavar="A,B", help=objects_help)
+        parser.add_argument("--objects", action=GoalPartAction, metavar="A,B", help=objects_help)
+    parser.add_argument("--pose", action=GoalPartAction, metavar="A,B",
+                        help="a pose part: the objects named keep an axis within --within DEG of a direction; "
+                             "repeatable")
+    parser.add_argument("--within", action=GoalPartAction, metavar="DEG", help="the last pose's tolerance (degrees)")
+    parser.add_argument("--axis", action=GoalPartAction, metavar="X,Y,Z",
+                        help="the last pose's axis in the object's own frame (default: 0,0,1, its local up)")
+    parser.add_argument("--target", action=GoalPartAction, metavar="X,Y,Z",
+                        help="the world direction that axis should point (default: 0,0,1, up)")
+    parser.add_argument("--as-posed", action=GoalPartAction, metavar="FRAME",
+                        help="the last pose as the object is posed at FRAME: the side up then stays up "
+                             "(with --axis: that axis keeps its direction at FRAME)")
+    parser.add_argument("--longer-than", action=GoalPartAction, metavar="S",
+                        help="a negative pose fails only when held longer than S seconds")
+    parser.add_argument("--negative", action=GoalPartAction, nargs=0,
+                        help="the last box rejects worlds entering it; the last pose, worlds holding it")
+    parser.add_argument("--time", action=GoalPartAction, metavar="T0,T1",
+                        help="the last box or pose applies between T0 and T1 s")
+    parser.add_argument("--after", action=GoalPartAction, metavar="N",
+                        help="the last part counts only when met after part N (--box and --pose numbered "
+                             "from 1 in order)")
 
 
 class Parser(argparse.ArgumentParser):
+    # Values such as "-1,0,0" (--axis, --target) and "-0.5,2" are numbers, not options: argparse
+    # reads a leading "-" as an option unless the text matches this.
+    NEGATIVE_NUMBERS = re.compile(r"^-(\d+\.?\d*|\.\d+)(,-?(\d+\.?\d*|\.\d+))*$")
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = self.NEGATIVE_NUMBERS
+
     def error(self, message):
         raise CliError(message)
 
@@ -493,31 +581,31 @@ def build_parser():
     p = commands.add_parser("info", help="describe a library")
     p.add_argument("library")
     p.add_argument("--json", action="store_true")
-    p = commands.add_parser("query", help="worlds matching boxes in the camera view")
+    p = commands.add_parser("query", help="worlds matching boxes in the camera view and poses")
     p.add_argument("library")
     p.add_argument("--blend", help="the .blend to open first (default: the open one)")
     p.add_argument("--json", action="store_true")
-    add_box_options(p, "objects the last box applies to (default: every simulated object)")
+    add_goal_options(p, "objects the last box applies to (default: every simulated object)")
     p = commands.add_parser("rank", help="worlds sorted by a metric")
     p.add_argument("library")
     p.add_argument("--blend", help="the .blend to open first (default: the open one)")
     p.add_argument("--metric", required=True, help=", ".join(METRICS))
     p.add_argument("--combine", choices=("sum", "max"), default="sum")
     p.add_argument("--desc", action="store_true", help="largest first")
-    p.add_argument("--asc", action="store_true", help="boxes_met: fewest first")
+    p.add_argument("--asc", action="store_true", help="boxes_met: fewest parts met first")
     p.add_argument("--limit", type=int, help="print only the first N")
     p.add_argument("--objects", help="objects the metric combines and the boxes test (default: all simulated)")
-    add_box_options(p)
-    p = commands.add_parser("seek", help="refine worlds until some meet every box")
+    add_goal_options(p)
+    p = commands.add_parser("seek", help="refine worlds until some meet every box and pose")
     p.add_argument("library")
     p.add_argument("--blend", help="the .blend to open first (default: the open one)")
-    p.add_argument("--want", type=int, default=1, help="worlds meeting every box to find (default: 1)")
+    p.add_argument("--want", type=int, default=1, help="worlds meeting every part to find (default: 1)")
     p.add_argument("--budget", type=int, required=True, help="most worlds to make")
     p.add_argument("--budget-s", type=float, help="most seconds to run (default: no limit)")
     p.add_argument("--seed", type=int, help="seed of the refinements (default: the engine's)")
     p.add_argument("--threads", type=int, help="engine threads (default: all cores)")
     p.add_argument("--json", action="store_true", help="the summary as one JSON object")
-    add_box_options(p, "objects the last box applies to (default: every simulated object)")
+    add_goal_options(p, "objects the last box applies to (default: every simulated object)")
     p = commands.add_parser("bake", help="bake one world to keyframes into a new .blend")
     p.add_argument("library")
     p.add_argument("--blend", help="the .blend to open first (default: the open one)")

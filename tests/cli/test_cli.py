@@ -207,15 +207,22 @@ def test_preview_tiles_show_each_world_at_its_last_frame(library, tmp_path):
     (["rank", "LIB", "--metric", "happiness"], "unknown metric 'happiness'"),
     (["bake", "LIB", "--world", "999", "--out", "x.blend"], "no world 999"),
     (["sample", "--worlds", "5:2", "--out", "x.mwb"], "empty or negative range"),
-    (["query", "LIB", "--box", "0,0,1,1", "--after", "2"], "--after 2: there is no box 2"),
-    (["seek", "LIB", "--budget", "10"], "seek needs at least one --box"),
-    (["seek", "LIB", "--box", "0,0,1,1", "--box", "0,0,.5,.5", "--after", "3", "--budget", "10"],
-     "--after 3: there is no box 3 (boxes are numbered 1 to 2)"),
+    (["query", "LIB", "--box", "0,0,1,1", "--after", "2"], "--after 2: there is no part 2"),
+    (["seek", "LIB", "--budget", "10"], "seek needs at least one --box or --pose"),
+    (["seek", "LIB", "--box", "0,0,1,1", "--pose", "Die", "--within", "10", "--after", "3", "--budget", "10"],
+     "--after 3: there is no part 3 (--box and --pose are numbered 1 to 2)"),
     (["seek", "LIB", "--box", "0,0,1,1", "--box", "0,0,.5,.5", "--after", "2", "--budget", "10"],
-     "box 2 cannot be met after itself"),
+     "part 2 cannot be met after itself"),
+    (["query", "LIB", "--pose", "Die"], "--pose Die: give its tolerance with --within DEG"),
+    (["query", "LIB", "--pose", "Die", "--within", "200"], "pose part 1 has a tolerance (within_deg) outside 0 to 180"),
+    (["query", "LIB", "--pose", "Die,Cone", "--within", "10", "--as-posed", "1"], "name one object per --pose"),
+    (["query", "LIB", "--pose", "Die", "--within", "10", "--swept"], "applies to a --box, not to a --pose"),
+    (["query", "LIB", "--box", "0,0,1,1", "--within", "10"], "applies to a --pose, not to a --box"),
+    (["query", "LIB", "--pose", "Die", "--within", "10", "--longer-than", "1"], "applies to a --negative pose"),
+    (["query", "LIB", "--pose", "Teapot", "--within", "10"], "unknown object 'Teapot'"),
     (["seek", "LIB", "--box", "0,0,1,1", "--budget", "0"], "--budget: expected at least 1, got 0"),
     (["seek", "LIB", "--box", "0,0,1,1", "--budget", "5", "--want", "0"], "--want: expected at least 1, got 0"),
-    (["seek", "LIB", "--after", "1", "--budget", "5"], "comes before any --box"),
+    (["seek", "LIB", "--after", "1", "--budget", "5"], "comes before any --box or --pose"),
     (["frobnicate"], "invalid choice"),
 ])
 def test_user_mistakes_are_one_line_and_exit_2(library, args, phrase):
@@ -374,3 +381,72 @@ def test_sample_of_a_fractured_wall_names_every_setting_in_a_few_warning_lines(t
     for setting in settings:
         assert any(line.startswith(setting + " on ") or f": {setting}: " in line for line in grouped), (setting, grouped)
     assert any(" constraints (" in line for line in grouped), grouped
+
+
+# The die's faces: its local axes.
+FACES = {"+X": (1, 0, 0), "-X": (-1, 0, 0), "+Y": (0, 1, 0), "-Y": (0, -1, 0), "+Z": (0, 0, 1), "-Z": (0, 0, -1)}
+
+
+def worst_angle_deg(library_path, world, body, axis, window_s):
+    """The largest angle (degrees) between the body's local `axis` and world up over the window,
+    from the library's full-rate orientations (not the index's path points)."""
+    sys.path.insert(0, os.path.join(ROOT, "addon"))
+    from many_worlds import _native
+    library = _native.Library(str(library_path))
+    q = np.asarray(library.orientations(world))[body]
+    info = library.world_info(world)
+    frames = [f for f in range(len(q)) if window_s[0] <= (info.first_frame + f) / info.record_hz <= window_s[1]]
+    w, x, y, z = (q[frames, k] for k in range(4))
+    # The rotated axis's z component: row 3 of the rotation matrix times the axis.
+    up = (2 * (x * z - w * y) * axis[0] + 2 * (y * z + w * x) * axis[1] + (1 - 2 * (x * x + y * y)) * axis[2])
+    return float(np.degrees(np.arccos(np.clip(up.min(), -1, 1))))
+
+
+def test_a_pose_keeps_the_worlds_where_the_die_lands_on_the_face_asked(library):
+    sys.path.insert(0, os.path.join(ROOT, "addon"))
+    from many_worlds import _native
+    names = list(_native.Scene.from_json(_native.Library(str(library)).scene_json).body_objects)
+    die = names.index("Die")
+    by_face = {face: set(matching("--pose", "Die", "--within", "20", "--axis", ",".join(map(str, axis)),
+                                  "--time", "3,4", library=library)) for face, axis in FACES.items()}
+    # At rest in the last second the die lies on one face: no world shows two faces up.
+    assert sum(len(worlds) for worlds in by_face.values()) == len(set().union(*by_face.values()))
+    assert len(set().union(*by_face.values())) >= 10, by_face
+    for face, axis in FACES.items():
+        for world in range(12):
+            angle = worst_angle_deg(library, world, die, axis, (3.0, 4.0))
+            # Clear of the tolerance at full rate, the index's 30 Hz points agree.
+            if angle < 18:
+                assert world in by_face[face], (face, world, angle)
+            elif angle > 22:
+                assert world not in by_face[face], (face, world, angle)
+    # Negative: never showing that face for more than half a second keeps the other worlds.
+    not_up = set(matching("--pose", "Die", "--within", "20", "--time", "3,4", "--negative", "--longer-than", "0.5",
+                          library=library))
+    assert not_up == set(range(12)) - by_face["+Z"]
+    # With a box, a pose counts as one more part; ranking counts both.
+    ranked = output_lines(cli("rank", str(library), "--metric", "boxes_met", "--box", "0,0,1,1",
+                              "--pose", "Die", "--within", "20", "--time", "3,4"))
+    counts = {int(line.split()[0]): int(line.split()[1]) for line in ranked}
+    assert {w for w, c in counts.items() if c == 2} == by_face["+Z"]
+    # As posed at frame 1: the face up in the .blend, as one of the six.
+    as_posed = set(matching("--pose", "Die", "--within", "20", "--as-posed", "1", "--time", "3,4", library=library))
+    assert as_posed in by_face.values()
+
+
+@needs_seek
+def test_seek_finds_a_world_where_the_die_lands_on_a_face_no_sampled_world_shows(library, tmp_path):
+    sys.path.insert(0, os.path.join(ROOT, "addon"))
+    from many_worlds import _native
+    counts = {face: len(matching("--pose", "Die", "--within", "15", "--axis", ",".join(map(str, axis)),
+                                 "--time", "3,4", library=library)) for face, axis in FACES.items()}
+    face = min(counts, key=lambda f: (counts[f], f))
+    goal = ["--pose", "Die", "--within", "15", "--axis", ",".join(map(str, FACES[face])), "--time", "3,4"]
+    grown = tmp_path / "dice.mwb"
+    shutil.copy(library, grown)
+    outcome = json.loads(output_lines(cli("seek", str(grown), *goal, "--want", "1", "--budget", "400", "--threads", "2",
+                                          "--json"))[-1])
+    assert outcome["reached"] and outcome["boxes"] == 1, outcome
+    assert set(outcome["found"]) <= set(matching(*goal, library=grown))
+    names = list(_native.Scene.from_json(_native.Library(str(grown)).scene_json).body_objects)
+    assert worst_angle_deg(grown, outcome["found"][0], names.index("Die"), FACES[face], (3.0, 4.0)) < 16

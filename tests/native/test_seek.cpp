@@ -63,7 +63,7 @@ TEST(GoalJson, NamesResolveToBodiesAndBadGoalsAreRefusedInOneLine) {
             EXPECT_EQ(message.find('\n'), std::string::npos) << message;
         }
     };
-    refused(goal_json({}), "no boxes");
+    refused(goal_json({}), "no parts");
     refused(goal_json({box_json(R"(["Crate"])")}), "no object 'Crate'");
     refused(goal_json({box_json(R"(["Box0"])", false, "1"), box_json(R"(["Box1"])", false, "0")}), "cycle");
     refused(goal_json({box_json(R"(["Box0"])", false, "0")}), "itself");

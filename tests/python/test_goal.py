@@ -47,8 +47,8 @@ def test_the_goal_file_has_the_engines_fields_row_major_and_the_order_by_positio
 
 @pytest.mark.parametrize("specs,phrase", [
     ([], "a goal needs at least one box"),
-    ([box(), box(after=1)], "box 2 is to be met after itself"),
-    ([box(after=2), box()], "box 1 is to be met after box 3, but the goal has 2 boxes"),
+    ([box(), box(after=1)], "part 2 is to be met after itself"),
+    ([box(after=2), box()], "part 1 is to be met after part 3, but the goal has 2 parts"),
     ([BoxSpec(view=VIEW, projection=PROJECTION, size=(10, 10), rect=(0, 0, 1, 1))], "box 1 tests no bodies"),
     ([box(time_window=(4.0, 3.0))], "box 1 has a time window"),
     ([box(after=1), box(after=0)], "cycle"),
@@ -92,31 +92,31 @@ def test_seek_request_and_the_texts_of_its_progress_and_outcome():
     assert argv[argv.index("--budget-s") + 1] == "60.0" and argv[argv.index("--seed") + 1] == "4"
 
     progress = engine.SeekProgress(5, 6, 3120, 418, 0)
-    assert engine.seek_progress_text(progress) == "best 5 of 6 boxes (world 418), 3,120 worlds made"
+    assert engine.seek_progress_text(progress) == "best 5 of 6 parts (world 418), 3,120 worlds made"
 
     reached = engine.SeekOutcome.from_summary({"reached": True, "found": [412, 415, 430], "best": 412,
                                                "best_boxes_met": 6, "boxes": 6, "worlds_made": 1204, "seconds": 61.2})
     assert reached.found == (412, 415, 430) and reached.best == 412
-    assert engine.seek_outcome_text(reached, 3) == ("Goal reached: 3 worlds meet all 6 boxes (412, 415, 430); "
+    assert engine.seek_outcome_text(reached, 3) == ("Goal reached: 3 worlds meet all 6 parts (412, 415, 430); "
                                                     "1,204 worlds made in 61.2 s")
     spent = engine.SeekOutcome.from_summary({"reached": False, "found": [], "best": 418, "best_boxes_met": 5,
                                              "boxes": 6, "worlds_made": 2000, "seconds": 80.0})
-    assert engine.seek_outcome_text(spent, 1) == ("Budget spent: best world 418 meets 5 of 6 boxes; "
+    assert engine.seek_outcome_text(spent, 1) == ("Budget spent: best world 418 meets 5 of 6 parts; "
                                                   "2,000 worlds made in 80.0 s")
     # Another command's summary is not a seek's outcome.
     assert engine.SeekOutcome.from_summary({"stored": 3, "rejected": 0, "text": "sampled 3 worlds"}) is None
 
 
-def test_seek_summary_says_how_many_were_wanted_and_names_a_single_box():
+def test_seek_summary_says_how_many_were_wanted_and_names_a_single_part_goal():
     partial = engine.SeekOutcome(reached=False, found=(412,), best=412, best_boxes_met=6, boxes=6, worlds_made=2000,
                                  seconds=80.0)
-    assert engine.seek_outcome_text(partial, 3) == ("Budget spent: 1 world meets all 6 boxes (412) of 3 wanted; "
+    assert engine.seek_outcome_text(partial, 3) == ("Budget spent: 1 world meets all 6 parts (412) of 3 wanted; "
                                                     "2,000 worlds made in 80.0 s")
     one = engine.SeekOutcome(reached=True, found=tuple(range(10)), best=0, best_boxes_met=1, boxes=1, worlds_made=0,
                              seconds=0.0)
-    assert engine.seek_outcome_text(one, 2) == ("Goal reached: 10 worlds meet the box (0, 1, 2, 3, 4, 5, 6, 7 and "
+    assert engine.seek_outcome_text(one, 2) == ("Goal reached: 10 worlds meet the goal (0, 1, 2, 3, 4, 5, 6, 7 and "
                                                 "2 more); 0 worlds made in 0.0 s")
-    assert engine.seek_progress_text(engine.SeekProgress(0, 1, 8, -1, 0)) == "best 0 of 1 box, 8 worlds made"
+    assert engine.seek_progress_text(engine.SeekProgress(0, 1, 8, -1, 0)) == "best 0 of 1 part, 8 worlds made"
 
 
 def test_a_seek_that_lost_worlds_says_how_many_and_why_commonest_first():
@@ -126,11 +126,11 @@ def test_a_seek_that_lost_worlds_says_how_many_and_why_commonest_first():
                                                             "the simulation did not finish within 120 s": 8,
                                                             "a body flew off (faster than 100 m/s)": 2}})
     assert engine.seek_outcome_text(lost, 1) == (
-        "Budget spent: best world 418 meets 5 of 6 boxes; 2,000 worlds made in 80.0 s, 11 rejected "
+        "Budget spent: best world 418 meets 5 of 6 parts; 2,000 worlds made in 80.0 s, 11 rejected "
         "(8: the simulation did not finish within 120 s; 2: a body flew off (faster than 100 m/s); "
         "1 for another reason)")
     progress = engine.SeekProgress(0, 1, 24, -1, 0, worlds_rejected=8)
-    assert engine.seek_progress_text(progress) == "best 0 of 1 box, 24 worlds made (8 rejected)"
+    assert engine.seek_progress_text(progress) == "best 0 of 1 part, 24 worlds made (8 rejected)"
     assert engine.rejections_text(0, ()) == ""
 
 

@@ -21,20 +21,13 @@ import json
 import numpy as np
 
 from .. import _native
-from .library_query import BoxSpec, PoseSpec, native_box
+from .library_query import BoxSpec, PoseSpec, native_parts
 
 
 def _checked(specs):
-    """The specs, once the module (query/ScreenBox.h) accepts each box and the goal they make."""
+    """The specs, once the module (query/ScreenBox.h) accepts each part and the goal they make."""
     specs = list(specs)
-    boxes = []
-    for k, spec in enumerate(specs):
-        try:
-            boxes.append(native_box(spec))
-        except ValueError as error:
-            noun = "pose part" if isinstance(spec, PoseSpec) else "box"
-            raise ValueError(f"{noun} {k + 1} {error}") from None
-    _native.check_goal(boxes)
+    _native.check_goal(native_parts(specs))
     return specs
 
 

@@ -18,6 +18,10 @@ import numpy as np
 # The ranking metric counting the boxes each world meets (the module's catalog names every metric,
 # see _native.ranking_metrics()); then every world is listed, not only the matching ones.
 BOXES_MET = "boxes_met"
+# It counts every enabled part of the goal, pose parts as well as boxes: the sidebar names it so.
+BOXES_MET_LABEL = "Goal Parts Met"
+BOXES_MET_HELP = ("How many enabled goal parts (boxes and poses) each world meets; lists every world, "
+                  "not only the matching ones")
 # Names metrics had before; files and scripts that use them keep working.
 OLD_METRIC_NAMES = {"constraints_satisfied": BOXES_MET}
 
@@ -44,6 +48,26 @@ class BoxSpec:
     bodies: Tuple[int, ...] = ()
     time_window: Optional[Tuple[float, float]] = None
     swept: bool = False
+    after: int = -1
+
+
+@dataclass(frozen=True)
+class PoseSpec:
+    """A pose part of a goal: each body's own `axis` (body frame) pointing within `within_deg` of
+    the world direction `target` ("upright": the object's local Z towards world +Z).
+
+    A positive part is met when every body keeps within the tolerance throughout the time window
+    (or the whole path); a negative one when no body stays within for longer than
+    `longer_than_s` (0: for any moment). time_window and after as for a BoxSpec; it sits in the
+    same list as the boxes.
+    """
+    bodies: Tuple[int, ...]
+    within_deg: float
+    axis: Tuple[float, float, float] = (0.0, 0.0, 1.0)
+    target: Tuple[float, float, float] = (0.0, 0.0, 1.0)
+    negative: bool = False
+    longer_than_s: float = 0.0
+    time_window: Optional[Tuple[float, float]] = None
     after: int = -1
 
 
@@ -90,16 +114,39 @@ def order_among(afters, kept):
 
 
 def native_box(spec, native=None):
-    """The module's QueryBox of a BoxSpec (the module validates it: ValueError says what is wrong);
-    its `after` counts in the list it is queried with."""
+    """The module's QueryBox of a BoxSpec or PoseSpec (the module validates it: ValueError says
+    what is wrong); its `after` counts in the list it is queried with."""
     if native is None:
         from .. import _native as native
+    if isinstance(spec, PoseSpec):
+        return native.pose_part(
+            bodies=list(spec.bodies), within_deg=float(spec.within_deg),
+            axis=tuple(float(v) for v in spec.axis), target=tuple(float(v) for v in spec.target),
+            negative=bool(spec.negative), longer_than_s=float(spec.longer_than_s),
+            time_window=spec.time_window, after=int(spec.after))
     return native.QueryBox(
         np.asarray(spec.view, dtype=np.float64).reshape(4, 4),
         np.asarray(spec.projection, dtype=np.float64).reshape(4, 4),
         (float(spec.size[0]), float(spec.size[1])), tuple(float(v) for v in spec.rect),
         negative=bool(spec.negative), bodies=list(spec.bodies),
         time_window=spec.time_window, swept=bool(spec.swept), after=int(spec.after))
+
+
+def part_noun(spec):
+    """What the goal calls a part in its messages: 'box' or 'pose part'."""
+    return "pose part" if isinstance(spec, PoseSpec) else "box"
+
+
+def native_parts(specs, native=None):
+    """The module's QueryBoxes of BoxSpecs and PoseSpecs; ValueError names the part refused by
+    its place in the list ("pose part 2 has a tolerance ...")."""
+    parts = []
+    for k, spec in enumerate(specs):
+        try:
+            parts.append(native_box(spec, native))
+        except ValueError as error:
+            raise ValueError(f"{part_noun(spec)} {k + 1} {error}") from None
+    return parts
 
 
 def order_after_removing(afters, removed):
@@ -131,13 +178,13 @@ def index_progress_text(indexed, total):
     return f"Indexing {indexed:,} of {total:,} worlds"
 
 
-def world_label_text(world, rest_s, boxes_met=0, box_count=0):
-    """The viewport's one line naming the previewed world: "World 216 · 5.47 s · 3 of 3 boxes"
-    (the boxes part only while boxes are enabled)."""
-    parts = [f"World {world}", f"{rest_s:.2f} s"]
-    if box_count:
-        parts.append(f"{boxes_met} of {box_count} {'box' if box_count == 1 else 'boxes'}")
-    return " \u00b7 ".join(parts)
+def world_label_text(world, rest_s, parts_met=0, part_count=0):
+    """The viewport's one line naming the previewed world: "World 216 · 5.47 s · 3 of 3 parts"
+    (the goal's parts, boxes and poses, only while some are enabled)."""
+    fields = [f"World {world}", f"{rest_s:.2f} s"]
+    if part_count:
+        fields.append(f"{parts_met} of {part_count} {'part' if part_count == 1 else 'parts'}")
+    return " \u00b7 ".join(fields)
 
 
 @dataclass
@@ -289,7 +336,7 @@ class LibraryQuery:
         """
         self.sync()
         file_order = np.asarray(self.view.world_indices, dtype=np.uint64)
-        boxes = [self.native_box(spec) for spec in specs]
+        boxes = native_parts(specs, self.native)
         self._boxes = boxes
         self.generation += 1
         self.index.post_generation(self.generation)

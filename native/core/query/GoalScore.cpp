@@ -284,9 +284,9 @@ std::vector<size_t> goal_order(const std::vector<QueryBox>& boxes) {
         if (boxes[k].after >= 0 && (static_cast<size_t>(boxes[k].after) >= n || static_cast<size_t>(boxes[k].after) == k))
             throw std::invalid_argument(
                 static_cast<size_t>(boxes[k].after) == k
-                    ? "box " + std::to_string(k + 1) + " is to be met after itself"
-                    : "box " + std::to_string(k + 1) + " is to be met after box " + std::to_string(boxes[k].after + 1) +
-                          ", but the goal has " + std::to_string(n) + " boxes");
+                    ? "part " + std::to_string(k + 1) + " is to be met after itself"
+                    : "part " + std::to_string(k + 1) + " is to be met after part " + std::to_string(boxes[k].after + 1) +
+                          ", but the goal has " + std::to_string(n) + " parts");
     // Each box has at most one predecessor: the order is a forest. Walk it depth first, roots in
     // list order, children in list order, so the order is the list's wherever the list allows.
     std::vector<size_t> order;
@@ -305,7 +305,7 @@ std::vector<size_t> goal_order(const std::vector<QueryBox>& boxes) {
         }
     }
     for (size_t k = 0; k < n; ++k)
-        if (!placed[k]) throw std::invalid_argument("the boxes' order has a cycle through box " + std::to_string(k + 1));
+        if (!placed[k]) throw std::invalid_argument("the parts' order has a cycle through part " + std::to_string(k + 1));
     return order;
 }
 

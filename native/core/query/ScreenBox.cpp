@@ -56,7 +56,7 @@ QueryBox make_orientation_part(const OrientationPartSpec& spec) {
 }
 
 void check_goal(const std::vector<QueryBox>& boxes) {
-    if (boxes.empty()) throw std::invalid_argument("the goal has no boxes: a goal needs at least one box");
+    if (boxes.empty()) throw std::invalid_argument("the goal has no parts: a goal needs at least one box or pose part");
     goal_order(boxes);
 }
 

@@ -23,7 +23,7 @@
 
 namespace mwb {
 
-/// A goal that cannot be searched for (no boxes, an object the library lacks, an ordering
+/// A goal that cannot be searched for (no parts, an object the library lacks, an ordering
 /// cycle, a malformed file); the message is one line.
 struct GoalError : std::runtime_error {
     using std::runtime_error::runtime_error;
