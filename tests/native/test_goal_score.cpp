@@ -386,6 +386,25 @@ TEST(GoalScore, AWorldThatBrokeANegativePartIsCloserTheLaterItBroke) {
     EXPECT_NE(early.search_key(), late.search_key());
 }
 
+TEST(GoalScore, OfTwoWorldsMeetingAsManyPartsTheOneWithMoreTimeToSpareIsNearer) {
+    // A then B (x in [4, 5], in the last second of a 4 s path): both worlds meet A and stop as
+    // far short of B, one having met A before 1 s, the other before 3 s.
+    const std::vector<QueryBox> goal{box(0, 1, 0, 1, {0}), box(4, 5, 0, 1, {0}, 0)};
+    std::vector<QueryBox> in_time = goal;
+    in_time[1].window = {3, 4};
+    const auto quick = path_through({{0.5, -3}, {0.5, 0.5}, {2, 0.5}, {2, 0.5}, {2, 0.5}});
+    const auto slow = path_through({{0.5, -9}, {0.5, -6}, {0.5, -3}, {0.5, 0.5}, {2, 0.5}});
+    for (const std::vector<QueryBox>& g : {goal, in_time}) {
+        const GoalScore q = score_goal({quick}, {0.1}, g, goal_order(g));
+        const GoalScore s = score_goal({slow}, {0.1}, g, goal_order(g));
+        ASSERT_EQ(q.boxes_met, 1u);
+        ASSERT_EQ(s.boxes_met, 1u);
+        EXPECT_LT(q.met_time_s[0], s.met_time_s[0]);
+        EXPECT_GT(q.value(), s.value());
+        EXPECT_LT(q.value(), 2.0);  // still less than meeting B
+    }
+}
+
 TEST(GoalScore, APosePartOverSeveralBodiesIsNearerTheFewerOfThemAreOff) {
     // Five dice that must end up: a world with one of them on its side scores nearer than one with
     // all five on their sides, and the blame falls on the dice that are off.

@@ -15,6 +15,8 @@ namespace {
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // Closeness stays below 1 so that meeting a box always counts for more than nearly meeting it.
 constexpr double kMaxCloseness = 0.999;
+// The share of the closeness to an ordered part that is the time left to meet it (see score_goal).
+constexpr double kSpareWeight = 0.25;
 
 bool has_path(const std::vector<PathView>& paths, uint32_t body) {
     return body < paths.size() && paths[body].point_count() > 0;
@@ -393,15 +395,26 @@ GoalScore score_goal(const std::vector<PathView>& paths, const std::vector<doubl
                                                     : score.met_time_s[k];
         if (decided < score.violation_time_s) ++score.parts_before_violation;
     }
+    double horizon = 0;
+    for (const PathView& path : paths)
+        if (path.point_count() > 0) horizon = std::max(horizon, path.end_time_s());
+    if (with_closeness && score.first_unmet >= 0 && kSpareWeight > 0) {
+        // Time to spare: of two worlds that met as many parts, the one that met the last of them
+        // sooner has more time left for the next, so a slow leader gives way to a quicker one.
+        const QueryBox& next = boxes[static_cast<size_t>(score.first_unmet)];
+        const double deadline = next.window.empty() ? horizon : std::min(horizon, next.window.hi_s);
+        if (next.after >= 0 && deadline > 0) {
+            const double since = score.met_time_s[static_cast<size_t>(next.after)];
+            const double spare = std::clamp((deadline - since) / deadline, 0.0, 1.0);
+            score.closeness = (1 - kSpareWeight) * score.closeness + kSpareWeight * kMaxCloseness * spare;
+        }
+    }
     if (std::isfinite(score.violation_time_s)) {
         // Past the violation nothing counts, so how near it came to a part says nothing either:
         // what a broken world has is the time it stayed clean, and a child that breaks later
         // has kept more of the goal's way (the staircase's sampled worlds mostly poke an arm out
         // within 1.5 s of 40; the share of the window spent outside told them apart by a few
         // frames and kept the search refining them).
-        double horizon = 0;
-        for (const PathView& path : paths)
-            if (path.point_count() > 0) horizon = std::max(horizon, path.end_time_s());
         score.closeness = horizon > 0 ? std::clamp(score.violation_time_s / horizon, 0.0, kMaxCloseness) : 0.0;
         // Within a thousandth of the paths' length (what a search tells apart), the pose part
         // broken by fewer bodies is nearer.

@@ -40,8 +40,10 @@ struct GoalScore {
     /// worst excess of 1 - cos(angle) over its tolerance's, in tolerances; a negative one the
     /// share of its window no body spends within. Over several bodies, a positive orientation
     /// part averages each body's 1 / (1 + e) (1 for a body within), a negative one each body's
-    /// share of the window out of the pose (1 for a body not held too long). 0 when every part is
-    /// met. For a world that broke a negative part (violation_time_s finite), instead how late it
+    /// share of the window out of the pose (1 for a body not held too long). For a part met after
+    /// another, a quarter of it is instead the time left to meet it when that one was met, as a
+    /// share of its deadline (the window's end, or the paths' end): a slow leader gives way to a
+    /// quicker world that met as many parts. 0 when every part is met. For a world that broke a negative part (violation_time_s finite), instead how late it
     /// broke: that time as a share of its paths' length (then, for a pose part, to a thousandth,
     /// plus a thousandth of violation_closeness).
     double closeness = 0;
