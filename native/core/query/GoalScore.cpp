@@ -288,7 +288,7 @@ std::vector<size_t> goal_order(const std::vector<QueryBox>& boxes) {
                 static_cast<size_t>(boxes[k].after) == k
                     ? "part " + std::to_string(k + 1) + " is to be met after itself"
                     : "part " + std::to_string(k + 1) + " is to be met after part " + std::to_string(boxes[k].after + 1) +
-                          ", but the goal has " + std::to_string(n) + " parts");
+                          ", but the goal has " + std::to_string(n) + (n == 1 ? " part" : " parts"));
     // Each box has at most one predecessor: the order is a forest. Walk it depth first, roots in
     // list order, children in list order, so the order is the list's wherever the list allows.
     std::vector<size_t> order;
