@@ -6,8 +6,8 @@ import bpy
 from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty, FloatVectorProperty,
                        IntProperty, IntVectorProperty, PointerProperty, StringProperty)
 
-from . import _native, compat
-from .core import reactions
+from . import _native, compat, pose_parts
+from .core import pose_target, reactions
 
 # The run settings' defaults are the engine's (library/RunSettings.h), not copies of them.
 _RUN_DEFAULTS = _native.RunSettings()
@@ -157,20 +157,27 @@ def _box_position(box):
     return next(k for k, other in enumerate(boxes) if other == box)
 
 
+def part_name(part, index):
+    """A goal part as the list and the After menu name it, by its position: 'Box 1', 'Pose 2'."""
+    return f"{'Pose' if part.kind == 'POSE' else 'Box'} {index + 1}"
+
+
 # Dynamic enum items must stay referenced while Blender shows them.
 _AFTER_ITEMS = []
 
 
 def _after_items(self, context):
-    """'None' and every other box that this box can be met after without closing a cycle; an
-    item's number is the box's position + 1."""
+    """'None' and every other part (box or pose) that this one can be met after without closing a
+    cycle; an item's number is the part's position + 1."""
     from .core.library_query import closes_order_cycle
     boxes = self.id_data.mwb.boxes
     here = _box_position(self)
     afters = [box.after_box for box in boxes]
     items = [("NONE", "None", "Met at any time", 0)]
-    items += [(str(k), f"Box {k + 1}", f"Counts only when met after box {k + 1} is", k + 1)
-              for k in range(len(boxes)) if not closes_order_cycle(afters, here, k)]
+    for k in range(len(boxes)):
+        if not closes_order_cycle(afters, here, k):
+            name = part_name(boxes[k], k)
+            items.append((str(k), name, f"Counts only when met after {name.lower()} is", k + 1))
     _AFTER_ITEMS[:] = items
     return items
 
@@ -188,12 +195,33 @@ def _set_after(self, value):
     self.after_box = after
 
 
-class MWB_QueryBox(bpy.types.PropertyGroup):
-    """A box drawn in a 3D viewport: the rectangle plus the view it was drawn through.
+def _on_pose_mode(self, context):
+    # Choosing As Posed on a part that never captured a pose captures the current one.
+    if self.pose_mode == pose_target.AS_POSED and not any(self.pose_captured_axis):
+        pose_parts.capture(self)
+    _on_box_change(self, context)
 
-    The matrices and the region size at drawing time make the box a fixed frustum in world space,
-    whatever the viewport shows later.
+
+_DIRECTION_ITEMS = [(name, label, "", k) for k, (name, label, _) in enumerate(pose_target.DIRECTIONS)]
+POSE_MODE_ITEMS = [
+    (pose_target.UPRIGHT, "Upright", "The object's local +Z towards world up", 0),
+    (pose_target.AXIS, "Axis", "One of the object's own axes towards a world direction", 1),
+    (pose_target.AS_POSED, "As Posed", "The side of the object that faces up when the pose is captured stays up "
+                                       "(Use Current Pose captures it again)", 2)]
+
+
+class MWB_QueryBox(bpy.types.PropertyGroup):
+    """A part of the goal: a box drawn in a 3D viewport, or a pose of objects.
+
+    A box is the rectangle plus the view it was drawn through: the matrices and the region size at
+    drawing time make it a fixed frustum in world space, whatever the viewport shows later. A pose
+    part holds an axis of each of its objects within a tolerance of a world direction. Both kinds
+    share one list, so their order (After), switches and saving work alike.
     """
+    kind: EnumProperty(name="Kind", default="BOX", update=_on_box_change,
+                       items=[("BOX", "Box", "A box drawn through a view: the objects' paths enter it or "
+                                             "stay out of it", 0),
+                              ("POSE", "Pose", "An axis of each object held towards a world direction", 1)])
     rect: FloatVectorProperty(name="Rectangle", size=4,
                               description="x0, y0, x1, y1 in region pixels from the bottom-left")
     view_matrix: FloatVectorProperty(name="View Matrix", size=16, description="World to camera, row-major")
@@ -201,9 +229,10 @@ class MWB_QueryBox(bpy.types.PropertyGroup):
                                            description="Camera to clip (OpenGL), row-major")
     region_size: IntVectorProperty(name="Region Size", size=2, description="Viewport width and height, pixels")
     enabled: BoolProperty(name="Enabled", default=True, update=_on_box_change,
-                          description="Use this box in the query")
+                          description="Use this part in the query")
     negative: BoolProperty(name="Negative", default=False, update=_on_box_change,
-                           description="Keep worlds whose paths stay out of the box (else: enter it)")
+                           description="Keep worlds whose paths stay out of the box, or whose objects never hold "
+                                       "the pose (longer than Longer Than); else: enter the box, hold the pose")
     bodies: CollectionProperty(type=MWB_BodyName, description="Bodies whose paths the box tests")
     use_time_window: BoolProperty(name="Time Window", default=False, update=_on_box_change,
                                   description="Test only the part of the paths between two times")
@@ -217,14 +246,33 @@ class MWB_QueryBox(bpy.types.PropertyGroup):
                            description="Position in the list of the box this one must be met after; -1: any time")
     # The list's choice of after_box (whose update evaluates the boxes again).
     after: EnumProperty(name="After", items=_after_items, get=_get_after, set=_set_after,
-                        description="Count this box only when its bodies meet it after the chosen box is met "
+                        description="Count this part only when its bodies meet it after the chosen part is met "
                                     "(a disabled predecessor leaves it unordered)")
+    # Pose parts
+    pose_mode: EnumProperty(name="Pose", items=POSE_MODE_ITEMS, default=pose_target.UPRIGHT, update=_on_pose_mode,
+                            description="Which way the objects should face")
+    pose_axis: EnumProperty(name="Object Axis", items=_DIRECTION_ITEMS, default="POS_Z", update=_on_box_change,
+                            description="The object's own axis (local) that the part turns")
+    pose_direction: EnumProperty(name="World Direction", items=_DIRECTION_ITEMS, default="POS_Z",
+                                 update=_on_box_change, description="The world direction the object's axis faces")
+    pose_captured_axis: FloatVectorProperty(
+        name="Captured Side", size=3, update=_on_box_change,
+        description="As Posed: the side of the object that faced up when captured, in its own axes")
+    within_deg: FloatProperty(name="Within", default=15.0, min=0.1, max=179.9, precision=1, update=_on_box_change,
+                              description="Tolerance: how many degrees the object's axis may turn away from the "
+                                          "direction")
+    longer_than_s: FloatProperty(name="Longer Than", default=0.0, min=0.0, unit="TIME_ABSOLUTE",
+                                 update=_on_box_change,
+                                 description="Negative pose: reject worlds where an object holds the pose for longer "
+                                             "than this; 0: for any moment")
 
 
 def _rank_metric_items():
-    # The module's catalog, in its order: a saved choice is stored by its position, and the box
-    # count (once "constraints_satisfied", now "boxes_met") keeps its place at the end.
-    return [(m.name, m.label, f"{m.help} ({m.unit})") for m in _native.ranking_metrics()]
+    # The module's catalog, in its order: a saved choice is stored by its position, and the count
+    # of goal parts (once "constraints_satisfied", now "boxes_met") keeps its place at the end.
+    from .core.library_query import BOXES_MET, BOXES_MET_HELP, BOXES_MET_LABEL
+    return [(m.name, BOXES_MET_LABEL, BOXES_MET_HELP) if m.name == BOXES_MET
+            else (m.name, m.label, f"{m.help} ({m.unit})") for m in _native.ranking_metrics()]
 
 
 RANK_METRICS = _rank_metric_items()
@@ -281,11 +329,11 @@ class MWB_SceneSettings(bpy.types.PropertyGroup):
                                       ("MAX", "Max", "The largest value among the bodies")])
     rank_descending: BoolProperty(name="Descending", default=False, update=_tag_redraw,
                                   description="Largest values first")
-    # Numbered: a saved choice is stored by its number, and "Boxes' Objects" came last.
+    # Numbered: a saved choice is stored by its number, and "Goal's Objects" came last.
     rank_bodies: EnumProperty(
         name="Bodies", default="BOXES", update=_tag_redraw,
-        items=[("BOXES", "Boxes' Objects", "The objects the enabled boxes test, or every simulated body "
-                                           "without boxes", 3),
+        items=[("BOXES", "Goal's Objects", "The objects the enabled boxes and pose parts test, or every "
+                                           "simulated body without any", 3),
                ("SIMULATED", "Simulated", "Every body the simulation moves", 1),
                ("LISTED", "Listed", "The bodies stored with Use Selected", 2),
                ("SELECTED", "Selected", "The selected objects, or every simulated body when none is selected "
@@ -293,7 +341,7 @@ class MWB_SceneSettings(bpy.types.PropertyGroup):
     rank_body_names: CollectionProperty(type=MWB_BodyName)
     # Goal search
     seek_want: IntProperty(name="Find", default=1, min=1, soft_max=100,
-                           description="Worlds meeting every enabled box to find before stopping")
+                           description="Worlds meeting every enabled box and pose part to find before stopping")
     seek_budget_worlds: IntProperty(name="Budget", default=2000, min=1, soft_max=100000,
                                     description="Most new worlds a seek makes")
     seek_budget_s: FloatProperty(name="Time Limit", default=0.0, min=0.0, unit="TIME_ABSOLUTE",

@@ -1,8 +1,9 @@
-"""Boxes and ranking settings (scene properties) turned into queries on the open library.
+"""Boxes, pose parts and ranking settings (scene properties) turned into queries on the open library.
 
 The evaluation itself is in core.library_query (no bpy); this module reads the properties, resolves
 body names to the library's body indices, keeps the session's LibraryQuery in step with the open
-view, and caches the ranking the panel shows.
+view, and caches the ranking the panel shows. Boxes and pose parts are the goal's parts: they share
+the scene's list (`scene.mwb.boxes`, told apart by `kind`), its order and its switches.
 """
 import dataclasses
 import traceback
@@ -10,8 +11,9 @@ import traceback
 import bpy
 import numpy as np
 
-from . import export
+from . import export, pose_parts
 from .core import library_query as core_query
+from .core import pose_target
 from .core.session import SESSION
 
 classes = ()
@@ -105,21 +107,55 @@ def simulated_body_names(scene):
     return export.simulated_object_names(scene)
 
 
+def _selected_names(context):
+    return [ob.name for ob in (getattr(context, "selected_objects", None) or [])]
+
+
+def _split_bodies(context, names, simulated):
+    """(those of `names` the simulation moves, the rigid bodies among them it does not move)."""
+    moving = set(simulated)
+    view = SESSION.view
+    bodies = set(view.body_names) if view is not None else {
+        ob.name for ob in context.scene.objects if ob.rigid_body is not None}
+    tested = [name for name in names if name in moving]
+    return tested, [name for name in names if name in bodies and name not in moving]
+
+
 def body_choice(context, names=None):
     """(tested, left_out) for a box or a ranking: of the objects named (default: the selected
     ones), the bodies the simulation moves, or every simulated body when none of them is; left_out
     names the rigid bodies among them that it does not move (passive or animated), whose paths
     never change from world to world."""
     simulated = simulated_body_names(context.scene)
-    moving = set(simulated)
-    if names is None:
-        names = [ob.name for ob in (getattr(context, "selected_objects", None) or [])]
-    view = SESSION.view
-    bodies = set(view.body_names) if view is not None else {
-        ob.name for ob in context.scene.objects if ob.rigid_body is not None}
-    tested = [name for name in names if name in moving]
-    left_out = [name for name in names if name in bodies and name not in moving]
+    tested, left_out = _split_bodies(context, _selected_names(context) if names is None else names, simulated)
     return (tested or simulated), left_out
+
+
+def pose_body_choice(context, names=None):
+    """(posed, left_out) for a new pose part: of the objects named (default: the selected ones),
+    those the simulation moves (none: no part can be made), and the rigid bodies among them it
+    does not move."""
+    return _split_bodies(context, _selected_names(context) if names is None else names,
+                         simulated_body_names(context.scene))
+
+
+def names_text(names, shown=3):
+    """'Box0, Box1 and 4 more': a few names, for a line sized for a person."""
+    if len(names) <= shown + 1:
+        return ", ".join(names)
+    return f"{', '.join(names[:shown])} and {len(names) - shown} more"
+
+
+def new_pose_problem(context):
+    """Why Add Pose cannot make a part of the selection now (one line), or ''."""
+    posed, left_out = pose_body_choice(context)
+    if posed:
+        return ""
+    if left_out:
+        verb = "is" if len(left_out) == 1 else "are"
+        return (f"To add a pose, select an object the simulation moves ({names_text(left_out)} {verb} passive "
+                "or animated)")
+    return "To add a pose, select objects the simulation moves"
 
 
 def left_out_text(left_out):
@@ -153,15 +189,23 @@ def ranking_body_names(context):
 
 
 def boxes_body_names(scene):
-    """The objects the enabled boxes test, in list order, or every simulated body without boxes."""
+    """The objects the enabled boxes and pose parts test, in list order, or every simulated body
+    without any."""
     names = [item.name for box in scene.mwb.boxes if box.enabled for item in box.bodies]
     return list(dict.fromkeys(names)) or simulated_body_names(scene)
 
 
 # --- boxes -------------------------------------------------------------------------------------------
 
-def spec_of(box, view, negative=None):
-    """The BoxSpec of a box property, or None when none of its bodies is in the library."""
+def _time_window(part):
+    return (part.time_start_s, max(part.time_start_s, part.time_end_s)) if part.use_time_window else None
+
+
+def spec_of(box, view):
+    """The BoxSpec of a box property (PoseSpec of a pose part), or None when none of its bodies is
+    in the library."""
+    if box.kind == "POSE":
+        return pose_spec_of(box, view)
     bodies = body_indices([item.name for item in box.bodies], view)
     if not bodies:
         return None
@@ -169,9 +213,20 @@ def spec_of(box, view, negative=None):
         view=np.array(box.view_matrix, dtype=np.float64).reshape(4, 4),
         projection=np.array(box.projection_matrix, dtype=np.float64).reshape(4, 4),
         size=tuple(box.region_size), rect=core_query.normalized_rect(*box.rect),
-        negative=box.negative if negative is None else negative, bodies=bodies,
-        time_window=(box.time_start_s, max(box.time_start_s, box.time_end_s)) if box.use_time_window else None,
-        swept=box.swept)
+        negative=box.negative, bodies=bodies, time_window=_time_window(box), swept=box.swept)
+
+
+def pose_spec_of(part, view):
+    """The PoseSpec of a pose part, or None when none of its bodies is in the library or an As
+    Posed part has no captured side."""
+    bodies = body_indices([item.name for item in part.bodies], view)
+    directions = pose_parts.directions(part)
+    if not bodies or directions is None:
+        return None
+    axis, target = directions
+    return core_query.PoseSpec(bodies=bodies, within_deg=part.within_deg, axis=axis, target=target,
+                               negative=part.negative, longer_than_s=part.longer_than_s if part.negative else 0.0,
+                               time_window=_time_window(part))
 
 
 def drag_spec(view, view_matrix, projection_matrix, size, rect, negative, body_names):
@@ -200,9 +255,51 @@ def store_box(scene, view_matrix, projection_matrix, size, rect, negative, body_
     return box
 
 
+def run_end_s(scene):
+    """Seconds a world of the run lasts: the open library's duration, else the Duration setting,
+    else the Rigid Body World's frame range."""
+    view = SESSION.view
+    if view is not None and view.library.header.parameters.duration_s > 0:
+        return view.library.header.parameters.duration_s
+    if scene.mwb.duration_s > 0:
+        return scene.mwb.duration_s
+    cache = scene.rigidbody_world.point_cache if scene.rigidbody_world is not None else scene
+    return max(0.0, (cache.frame_end - cache.frame_start) / (scene.render.fps / scene.render.fps_base))
+
+
+# A new positive pose part is tested over the run's last second: where a die has landed.
+POSE_WINDOW_S = 1.0
+
+
+def set_quietly(part, name, value):
+    """Set a property without its update callback (the caller evaluates once, when done)."""
+    prop = part.bl_rna.properties[name]
+    part[name] = prop.enum_items[value].value if prop.type == "ENUM" else value
+
+
+def store_pose(scene, body_names, mode=pose_target.UPRIGHT, negative=False):
+    """Append a pose part testing the objects named (one part; As Posed captures the first one's
+    side facing up now). A positive part gets the run's last second as its time window."""
+    part = scene.mwb.boxes.add()
+    set_quietly(part, "kind", "POSE")
+    set_quietly(part, "pose_mode", mode)
+    set_quietly(part, "negative", bool(negative))
+    for name in body_names:
+        part.bodies.add().name = name
+    if mode == pose_target.AS_POSED:
+        pose_parts.capture(part)
+    if not negative:
+        end = run_end_s(scene)
+        set_quietly(part, "use_time_window", True)
+        set_quietly(part, "time_start_s", max(0.0, end - POSE_WINDOW_S))
+        set_quietly(part, "time_end_s", end)
+    scene.mwb.box_index = len(scene.mwb.boxes) - 1
+    return part
+
+
 def enabled_specs(scene, view):
-    """BoxSpecs of the enabled boxes that test bodies of the library, in list order; each one's
-    `after` counts among them (a box met after a box left out has no order)."""
+    """BoxSpecs and PoseSpecs of the enabled parts that test bodies of the library, in list order;
+    each one's `after` counts among them (a part met after a part left out has no order)."""
     boxes = scene.mwb.boxes
     specs = [spec_of(box, view) if box.enabled else None for box in boxes]
     afters = core_query.order_among([box.after_box for box in boxes], [spec is not None for spec in specs])

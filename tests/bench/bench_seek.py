@@ -1,21 +1,26 @@
 """Benchmark: goal search on an example, with the goal its README states in full, from several
 first batches, so that one lucky (or unlucky) start does not decide the figure.
 
-    blender -b blend_examples/NAME/NAME.blend --python tests/bench/bench_seek.py [-- BUDGET_WORLDS [BUDGET_S]]
+    blender -b blend_examples/NAME/NAME.blend --python tests/bench/bench_seek.py [-- BUDGET_WORLDS [BUDGET_S [GOAL]]]
+
+GOAL names the goal (default: the example's own, NAME); an example may have more than one
+(siggraph_letters.blend also has siggraph_upright).
 
 Exports the scene; then for each of MWB_SEEK_BATCHES first batches (default 5: base seeds 0 to 4,
 MWB_SEEK_FIRST_BATCH worlds each, default 32; MWB_SEEK_SEEDS=2,3 runs only those) samples the batch as a user would, counts the worlds
-of it that already meet the goal (the browser's own query), and runs `mwb-engine seek` with the
-example's goal boxes (drawn in the scene camera's view, or in a top view for footprints) until
-one world meets them all or the budget is spent. The world it reports is checked again with the
-browser's query. Prints a line per batch, then the median and the worst, and
+of it that already meet the goal, and runs `mwb-engine seek` with the goal's boxes (drawn in the
+scene camera's view, or in a top view for footprints) and pose parts until one world meets them
+all or the budget is spent. The world it reports is checked again with the browser's own query
+(its boxes, and its pose parts where the module offers them). Prints a line per batch, then the
+median and the worst, and
 `BENCH seek_NAME_first_batch_met` (worlds of the first batches meeting the goal already, all
 batches together: 0 when the example tests a search), `BENCH seek_NAME_reached` (batches that
 reached it), `BENCH seek_NAME_worst_worlds`, `BENCH seek_NAME_worst_s`, and the medians
 `BENCH seek_NAME_worlds` and `BENCH seek_NAME_s` (worlds simulated and wall time, the first batch
-included). `BENCH seek_NAME_children_losing_met_pct` and `_children_gaining_pct`: of the worlds its
-refinements made, all batches together, the share that lost a goal box their parent met and the
-share meeting more boxes than their parent.
+included), NAME being the goal's. `BENCH seek_NAME_children_losing_met_pct` and
+`_children_gaining_pct`: of the worlds its refinements made, all batches together, the share that
+lost a goal part their parent met and the share meeting more parts than their parent (the parts
+the browser's query holds; not printed when it holds none).
 """
 import contextlib
 import json
@@ -45,6 +50,7 @@ SEEDS = [int(s) for s in os.environ["MWB_SEEK_SEEDS"].split(",")] if os.environ.
 ARGS = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 BUDGET_WORLDS = int(ARGS[0]) if ARGS else 20000
 BUDGET_S = float(ARGS[1]) if len(ARGS) > 1 else 600.0
+GOAL_NAME = ARGS[2] if len(ARGS) > 2 else None
 TOP_VIEW_SIZE = 1000  # pixels of the orthographic views' square viewport
 
 
@@ -154,6 +160,30 @@ def siggraph_letters_goal():
             for i, c in enumerate("SIGGRAPH", 1)]
 
 
+def siggraph_upright_orientations():
+    """With siggraph_letters_goal: every letter upright in its slot over the last second, its own
+    up within 20° of straight up. A letter's glyph is drawn in its local XZ plane with the top of
+    the letter towards local +Z (blend_examples/peg_board.py), and every letter starts upright."""
+    return [{"objects": [f"Letter{i}_{c}"], "axis": [0, 0, 1], "target": [0, 0, 1], "within_deg": 20,
+             "time_window": last_second()} for i, c in enumerate("SIGGRAPH", 1)]
+
+
+# The die's own axis each number faces along (blend_examples/dice/build_dice.py).
+DIE_FACE_AXES = {1: [0, 0, -1], 2: [0, -1, 0], 3: [-1, 0, 0], 4: [1, 0, 0], 5: [0, 1, 0], 6: [0, 0, 1]}
+
+
+def dice_goal():
+    """No boxes: the dice goal is all pose parts (dice_orientations)."""
+    return []
+
+
+def dice_orientations():
+    """Die1 shows one, Die2 two, ... Die5 five over the last second: each die's own axis for its
+    number within 20° of straight up (about 1 in 8,000 fresh worlds; each part alone about 1 in 6)."""
+    return [{"objects": [f"Die{k}"], "axis": DIE_FACE_AXES[k], "target": [0, 0, 1], "within_deg": 20,
+             "time_window": last_second()} for k in range(1, 6)]
+
+
 PARTS = ["Pelvis", "Torso", "Head", "UpperArmL", "UpperArmR", "ForearmL", "ForearmR", "ThighL", "ThighR",
          "ShinL", "ShinR"]
 
@@ -231,9 +261,6 @@ def trebuchet_tower_goal():
     return boxes
 
 
-GOALS = {"quickstart": quickstart_goal, "marble_run": marble_run_goal, "pachinko_letters": pachinko_letters_goal,
-         "siggraph_letters": siggraph_letters_goal,
-         "spiral_staircase": spiral_staircase_goal, "trebuchet_tower": trebuchet_tower_goal}
 def quickstart_orientations():
     """The cone stands in its bin (within 15° of upright) and the die shows its top face (its
     local up within 10° of up), over the last second."""
@@ -241,8 +268,14 @@ def quickstart_orientations():
             {"objects": ["Die"], "within_deg": 10, "time_window": [3.0, 4.0]}]
 
 
-# Goal parts that test orientation, beside the boxes (GoalJson.h's "orientations").
-ORIENTATIONS = {"quickstart": quickstart_orientations, "spiral_staircase": spiral_staircase_orientations}
+# Each goal's boxes, and its parts that test orientation beside them (GoalJson.h's "orientations").
+GOALS = {"quickstart": quickstart_goal, "marble_run": marble_run_goal, "pachinko_letters": pachinko_letters_goal,
+         "siggraph_letters": siggraph_letters_goal, "siggraph_upright": siggraph_letters_goal,
+         "spiral_staircase": spiral_staircase_goal, "trebuchet_tower": trebuchet_tower_goal, "dice": dice_goal}
+ORIENTATIONS = {"quickstart": quickstart_orientations, "spiral_staircase": spiral_staircase_orientations,
+                "siggraph_upright": siggraph_upright_orientations, "dice": dice_orientations}
+# The example a goal is on, where the goal is not named after it.
+EXAMPLE_OF = {"siggraph_upright": "siggraph_letters"}
 
 
 def engine(*args):
@@ -252,30 +285,43 @@ def engine(*args):
     return result.stdout
 
 
-def query_boxes(goal, library):
-    """The goal as the browser's own query boxes."""
-    scene = _native.Scene.from_json(library.scene_json)
-    names = list(scene.body_objects)
-    out = []
-    for b in goal:
-        out.append(_native.QueryBox(np.asarray(b["view"]).reshape(4, 4), np.asarray(b["projection"]).reshape(4, 4),
-                                    tuple(b["viewport"]), tuple(b["rect"]), negative=b["negative"],
-                                    bodies=[i for i, n in enumerate(names) if n in b["objects"]],
-                                    time_window=tuple(b["time_window"]) if b["time_window"] else None,
-                                    swept=b.get("swept", False), after=-1 if b["after"] is None else b["after"]))
-    return out
+def query_parts(goal, orientations, library):
+    """The goal as the browser's own query: its boxes, then its orientation parts as pose parts,
+    in the goal file's order. A module without pose parts (`_native.pose_part`) leaves them out:
+    the query then asks less than the goal, and nothing at all of a goal without boxes."""
+    names = list(_native.Scene.from_json(library.scene_json).body_objects)
+
+    def bodies(part):
+        return [i for i, n in enumerate(names) if n in part["objects"]]
+
+    def window(part):
+        return tuple(part["time_window"]) if part.get("time_window") else None
+
+    def after(part):
+        return -1 if part.get("after") is None else part["after"]
+
+    parts = [_native.QueryBox(np.asarray(b["view"]).reshape(4, 4), np.asarray(b["projection"]).reshape(4, 4),
+                              tuple(b["viewport"]), tuple(b["rect"]), negative=b["negative"], bodies=bodies(b),
+                              time_window=window(b), swept=b.get("swept", False), after=after(b)) for b in goal]
+    if hasattr(_native, "pose_part"):
+        parts += [_native.pose_part(bodies=bodies(o), within_deg=o["within_deg"], axis=tuple(o.get("axis", (0, 0, 1))),
+                                    target=tuple(o.get("target", (0, 0, 1))), negative=o.get("negative", False),
+                                    longer_than_s=o.get("longer_than_s", 0.0), time_window=window(o), after=after(o))
+                  for o in orientations]
+    return parts
 
 
-def refinement_effects(goal, library, index):
-    """Of the worlds refinement made, how many lost a goal box their parent met, and how many
-    meet more boxes than it (orientation parts aside): (children, lost, gained). `index` holds
-    every world of `library`."""
-    boxes = query_boxes(goal, library)
+def refinement_effects(parts, library, index):
+    """Of the worlds refinement made, how many lost a part of the browser's query (query_parts)
+    their parent met, and how many meet more of them than it: (children, lost, gained), or None
+    when the query holds no parts. `index` holds every world of `library`."""
+    if not parts:
+        return None
     met = {}
 
     def met_of(world):
         if world not in met:
-            met[world] = list(index.score(world, boxes).met)
+            met[world] = list(index.score(world, parts).met)
         return met[world]
 
     children = lost = gained = 0
@@ -290,22 +336,25 @@ def refinement_effects(goal, library, index):
     return children, lost, gained
 
 
-def goal_matches(goal, goal_path, library_path):
-    """The worlds of the library that meet the goal: its boxes by the browser's own query, and
-    every part (orientation parts too) as the search scores them; both must agree. Returns the
-    library, the browser's path index of all its worlds, and those worlds."""
+def goal_matches(goal, orientations, goal_path, library_path):
+    """The worlds of the library that meet the goal, every part as the search scores them; each
+    must meet the browser's own query too (query_parts; skipped when it holds no parts). Returns
+    the library, the browser's path index of all its worlds, the query's parts and those worlds."""
     library = _native.Library(library_path)
     index = _native.PathIndex(_native.body_bounding_radii(_native.Scene.from_json(library.scene_json)))
     index.add_library(library)
-    by_boxes = set(int(w) for w in index.query(query_boxes(goal, library)).matching)
+    parts = query_parts(goal, orientations, library)
     with open(goal_path) as f:
-        by_parts = set(int(w) for w in _native.worlds_meeting_goal(library_path, f.read()))
-    if not by_parts <= by_boxes:
-        raise SystemExit(f"worlds {sorted(by_parts - by_boxes)} meet the goal as searched but not the browser's boxes")
-    return library, index, by_parts
+        by_search = set(int(w) for w in _native.worlds_meeting_goal(library_path, f.read()))
+    if parts:
+        by_browser = set(int(w) for w in index.query(parts).matching)
+        if not by_search <= by_browser:
+            raise SystemExit(f"worlds {sorted(by_search - by_browser)} meet the goal as searched but not the "
+                             f"browser's query")
+    return library, index, parts, by_search
 
 
-def search_from(seed, scene_json, goal_path, goal, folder):
+def search_from(seed, scene_json, goal_path, goal, orientations, folder):
     """Sample the first batch of base seed `seed`, then seek. Returns a dict of what happened."""
     library_path = os.path.join(folder, f"seed{seed}.mwb")
     if os.path.exists(library_path):
@@ -313,20 +362,21 @@ def search_from(seed, scene_json, goal_path, goal, folder):
     start = time.perf_counter()
     engine("sample", "--scene", scene_json, "--out", library_path, "--worlds", f"0:{FIRST_BATCH}", "--seed", str(seed))
     sampled_s = time.perf_counter() - start
-    _, _, first_met = goal_matches(goal, goal_path, library_path)
+    _, _, _, first_met = goal_matches(goal, orientations, goal_path, library_path)
     out = engine("seek", "--library", library_path, "--goal", goal_path, "--want", "1", "--seed", str(seed),
                  "--budget-worlds", str(BUDGET_WORLDS), "--budget-s", str(max(1.0, BUDGET_S - sampled_s)), "--json")
     elapsed = time.perf_counter() - start
     outcome = json.loads(out.strip().splitlines()[-1])
-    library, index, matching = goal_matches(goal, goal_path, library_path)
+    library, index, parts, matching = goal_matches(goal, orientations, goal_path, library_path)
     reached = bool(outcome["reached"]) and all(w in matching for w in outcome["found"])
     lineage = len(library.world_info(outcome["best"]).lineage) if outcome["best"] in set(
         int(w) for w in library.world_indices) else 0
-    children, lost, gained = refinement_effects(goal, library, index)
+    effects = refinement_effects(parts, library, index)
+    children, lost, gained = effects if effects is not None else (0, 0, 0)
     return {"seed": seed, "first_met": len(first_met), "reached": reached, "worlds": FIRST_BATCH + outcome["worlds_made"],
             "s": elapsed, "best": outcome["best"], "best_boxes_met": outcome["best_boxes_met"], "boxes": outcome["boxes"],
             "refinements": outcome["refinements"], "lineage": lineage, "children": children, "lost": lost,
-            "gained": gained}
+            "gained": gained, "scored": effects is not None}
 
 
 def percent(part, whole, sign="%"):
@@ -334,14 +384,17 @@ def percent(part, whole, sign="%"):
 
 
 def main():
-    name = os.path.splitext(os.path.basename(bpy.data.filepath))[0]
+    example = os.path.splitext(os.path.basename(bpy.data.filepath))[0]
+    name = GOAL_NAME or example
     if name not in GOALS:
-        raise SystemExit(f"no goal for {name} (have: {', '.join(GOALS)})")
+        raise SystemExit(f"no goal {name} (have: {', '.join(GOALS)})")
+    if EXAMPLE_OF.get(name, name) != example:
+        raise SystemExit(f"goal {name} is on {EXAMPLE_OF.get(name, name)}.blend, not {example}.blend")
     many_worlds.register()
     result, problems = export_and_validate(bpy.context)
     if result.scene is None or problems:
         raise SystemExit(f"{name}: cannot export: {problems}")
-    goal = GOALS[name]()
+    goal, orientations = GOALS[name](), ORIENTATIONS.get(name, lambda: [])()
     # MWB_SEEK_KEEP=DIR keeps the scene, goal and libraries there for a closer look.
     keep = os.environ.get("MWB_SEEK_KEEP")
     if keep:
@@ -352,20 +405,22 @@ def main():
         with open(scene_json, "w") as f:
             f.write(result.to_json())
         with open(goal_path, "w") as f:
-            json.dump({"boxes": goal, "orientations": ORIENTATIONS.get(name, lambda: [])()}, f)
+            json.dump({"boxes": goal, "orientations": orientations}, f)
         if BATCHES == 0:
             # Only the scene and the goal, for a closer look at them (MWB_SEEK_KEEP).
             print(f"{name}: scene and goal in {folder}")
             return
         for seed in SEEDS:
-            run = search_from(seed, scene_json, goal_path, goal, folder)
+            run = search_from(seed, scene_json, goal_path, goal, orientations, folder)
             runs.append(run)
+            effects = (f"of its {run['children']} refined worlds {percent(run['lost'], run['children'])} lost a "
+                       f"part their parent met, {percent(run['gained'], run['children'])} met more parts"
+                       if run["scored"] else "the browser's query holds none of its parts")
             print(f"{name} seed {seed}: {run['first_met']} of the first {FIRST_BATCH} worlds meet the goal; "
                   f"{'reached' if run['reached'] else 'not reached'}: best world {run['best']} meets "
                   f"{run['best_boxes_met']} of {run['boxes']} goal parts ({run['lineage']} refinements deep), "
-                  f"{run['worlds']} worlds, {run['refinements']} refine calls, {run['s']:.1f} s; of its "
-                  f"{run['children']} refined worlds {percent(run['lost'], run['children'])} lost a box their "
-                  f"parent met, {percent(run['gained'], run['children'])} met more boxes", flush=True)
+                  f"{run['worlds']} worlds, {run['refinements']} refine calls, {run['s']:.1f} s; {effects}",
+                  flush=True)
     worlds = sorted(r["worlds"] for r in runs)
     seconds = sorted(r["s"] for r in runs)
     reached = sum(r["reached"] for r in runs)

@@ -42,7 +42,7 @@ def quickstart(tmp_path):
 
 
 def boxes_met(world):
-    """The boxes a world meets, as the add-on's query (Ranking's Boxes Met) counts them."""
+    """The boxes a world meets, as the add-on's query (Ranking's Goal Parts Met) counts them."""
     lq = scene_boxes.library_query()
     return int(lq.result.boxes_satisfied[SESSION.view.world_indices.index(world)])
 
@@ -112,7 +112,7 @@ def test_a_goal_some_worlds_meet_already_is_reached_at_once_and_the_best_preview
     outcome = engine_process.SeekOutcome.from_summary(run.summary())
     assert outcome.reached and sorted(outcome.found) == meeting and outcome.worlds_made == 0
     assert len(SESSION.view.world_indices) == 8
-    assert SESSION.status.startswith(f"Goal reached: {len(meeting)} worlds meet the box ("), SESSION.status
+    assert SESSION.status.startswith(f"Goal reached: {len(meeting)} worlds meet the goal ("), SESSION.status
     settings = bpy.context.scene.mwb
     assert settings.selected_world == outcome.best in meeting and settings.previewing
 
@@ -133,12 +133,12 @@ def test_cancelling_a_seek_keeps_every_world_it_made(quickstart):
 
 
 def test_seek_needs_a_box_and_a_library(tmp_path, quickstart):
-    with pytest.raises(RuntimeError, match="Draw a box first"):
+    with pytest.raises(RuntimeError, match="Draw a box or add a pose first"):
         bpy.ops.mwb.seek()
     boxes = add_goal_boxes()
     for box in boxes:
         box.enabled = False
-    with pytest.raises(RuntimeError, match="Draw a box first"):
+    with pytest.raises(RuntimeError, match="Draw a box or add a pose first"):
         bpy.ops.mwb.seek()
     assert SESSION.run is None
     SESSION.view = None

@@ -57,8 +57,8 @@ def test_seek_says_what_it_needs_first(tmp_path):
     save_blend(tmp_path)
     assert "Open or sample a library first" in refused(bpy.ops.mwb.seek)
     sample_and_wait(2, threads=2)
-    assert "Draw a box first" in refused(bpy.ops.mwb.seek)
-    assert seeking.seek_problem(bpy.context.scene).startswith("Draw a box first")
+    assert "Draw a box or add a pose first" in refused(bpy.ops.mwb.seek)
+    assert seeking.seek_problem(bpy.context.scene).startswith("Draw a box or add a pose first")
 
 
 def test_a_box_too_small_to_be_one_is_refused_saying_so():

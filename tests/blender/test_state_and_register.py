@@ -8,7 +8,7 @@ from test_queries import PROJECTION, SIZE, VIEW
 import many_worlds
 from many_worlds import _native, handlers, preview
 from many_worlds.core.session import SESSION
-from many_worlds.draw import boxes, paths, world_label
+from many_worlds.draw import boxes, paths, poses, world_label
 from many_worlds.operators import run_poller
 
 
@@ -65,19 +65,19 @@ def test_register_unregister_cycles_leave_no_handlers_timers_or_draw_callbacks(t
     bpy.ops.mwb.sample()
     run = SESSION.run
     assert bpy.app.timers.is_registered(run_poller.poll_run)
-    assert len(our_handlers()) == 5 and paths.OVERLAY.active and boxes.OVERLAY.active and world_label.OVERLAY.active
+    assert len(our_handlers()) == 5 and all(o.OVERLAY.active for o in (paths, boxes, poses, world_label))
     assert len(our_keymap_items()) == 6 and query_box_tool_registered()
     for _ in range(3):
         many_worlds.unregister()
         assert our_handlers() == [] and our_keymap_items() == [] and not query_box_tool_registered()
         assert not bpy.app.timers.is_registered(run_poller.poll_run)
-        assert not (paths.OVERLAY.active or boxes.OVERLAY.active or world_label.OVERLAY.active)
+        assert not any(o.OVERLAY.active for o in (paths, boxes, poses, world_label))
         assert not hasattr(bpy.types, "MWB_OT_sample") and not hasattr(bpy.types.Scene, "mwb")
         assert not hasattr(bpy.types, "MWB_OT_draw_box") and not hasattr(bpy.types, "MWB_UL_ranking")
         assert not hasattr(bpy.types, "MWB_OT_refine_box") and not hasattr(bpy.types, "MWB_OT_go_to_parent")
-        assert not hasattr(bpy.types, "MWB_PT_refine")
+        assert not hasattr(bpy.types, "MWB_PT_refine") and not hasattr(bpy.types, "MWB_OT_add_pose")
         many_worlds.register()
-        assert len(our_handlers()) == 5 and paths.OVERLAY.active and boxes.OVERLAY.active and world_label.OVERLAY.active
+        assert len(our_handlers()) == 5 and all(o.OVERLAY.active for o in (paths, boxes, poses, world_label))
         assert len(our_keymap_items()) == 6 and query_box_tool_registered()
         assert bpy.context.scene.mwb.world_count == 2000, "saved settings survive re-registration"
     # Unregistering stopped the engine; the worlds it finished are in the file.

@@ -19,6 +19,7 @@ EXAMPLES = {
     "siggraph_letters": (6, "Letter1_S", ["Slot1_S", "SlotDivider1"], (9.0, 10.0), False),
     "spiral_staircase": (4, "Pelvis", ["Step48"], (39.0, 40.0), False),
     "trebuchet_tower": (2, "Rock", ["Block"], (3.0, 4.0), True),
+    "dice": (8, "Die1", ["Table"], (3.0, 4.0), True),
 }
 
 # The staircase's sprung joints: their damping is approximated (small swings settle sooner).
@@ -230,3 +231,64 @@ def test_each_marble_run_cup_tips_the_chains_way_less_often_than_not(tmp_path):
         assert 0 < got_to[k + 1] < got_to[k] / 2, got_to
     assert got_to[-1] == 0, got_to
     print("marble run: worlds that tipped at least k cups the chain's way, k = 0, 1, ...:", got_to)
+
+
+# The die's own axis each number faces along, as blend_examples/dice/README.md states it.
+DIE_FACE_AXES = {1: (0, 0, -1), 2: (0, -1, 0), 3: (-1, 0, 0), 4: (1, 0, 0), 5: (0, 1, 0), 6: (0, 0, 1)}
+
+PIPS_BY_AXIS = """
+import json, bpy
+out = {}
+for k in range(1, 6):
+    die = bpy.data.objects[f"Die{k}"]
+    counts = {}
+    for face in die.data.polygons:
+        if face.material_index == 1:
+            axis = ",".join(str(round(c)) for c in face.normal)
+            counts[axis] = counts.get(axis, 0) + 1
+    out[die.name] = counts
+print("RESULT " + json.dumps(out))
+"""
+
+
+def test_each_die_shows_every_number_along_the_axis_its_readme_gives():
+    """The pips of each number lie on the face whose normal is that number's axis."""
+    blend = os.path.join(ROOT, "blend_examples", "dice", "dice.blend")
+    run = blender(blend, "--python-exit-code", "1", "--python-expr", PIPS_BY_AXIS)
+    expected = {",".join(str(c) for c in axis): number for number, axis in DIE_FACE_AXES.items()}
+    assert result_of(run.stdout) == {f"Die{k}": expected for k in range(1, 6)}
+
+
+FACES_UP = """
+import json, sys
+sys.path.insert(0, {addon!r})
+from many_worlds import _native
+axes = {axes!r}
+counts = {{}}
+for k in range(1, 6):
+    for number, axis in axes.items():
+        part = {{"objects": [f"Die{{k}}"], "axis": list(axis), "target": [0, 0, 1], "within_deg": 20,
+                 "time_window": [3.0, 4.0]}}
+        goal = json.dumps({{"boxes": [], "orientations": [part]}})
+        counts[f"Die{{k}} {{number}}"] = len(_native.worlds_meeting_goal({library!r}, goal))
+print("RESULT " + json.dumps(counts))
+"""
+
+
+def test_the_dice_are_fair(tmp_path):
+    """Every number comes up about as often as the others (pooled over the five dice, 120 worlds),
+    and nearly every die ends with a face up, which is what makes the dice goal a search."""
+    blend = os.path.join(ROOT, "blend_examples", "dice", "dice.blend")
+    library = str(tmp_path / "dice.mwb")
+    worlds = 120
+    cli(blend, "sample", "--worlds", f"0:{worlds}", "--out", library)
+    run = subprocess.run(["/usr/bin/python3", "-c", FACES_UP.format(addon=os.path.join(ROOT, "addon"),
+                                                                   axes=DIE_FACE_AXES, library=library)],
+                         capture_output=True, text=True, check=True)
+    counts = result_of(run.stdout)
+    for k in range(1, 6):
+        assert sum(counts[f"Die{k} {n}"] for n in DIE_FACE_AXES) >= worlds - 10, counts
+    # 600 throws: 100 of each number expected, a standard deviation of 9.
+    for n in DIE_FACE_AXES:
+        assert 60 <= sum(counts[f"Die{k} {n}"] for k in range(1, 6)) <= 140, counts
+    print("dice: worlds per die and number, of 120:", counts)

@@ -121,10 +121,10 @@ def test_the_panel_folds_one_approximation_on_many_objects_into_a_line_naming_th
     assert export_warnings.grouped_warning_lines(["odd line"]) == ["odd line"]
 
 
-def test_the_viewport_label_names_the_world_its_rest_time_and_the_boxes_it_meets():
+def test_the_viewport_label_names_the_world_its_rest_time_and_the_goal_parts_it_meets():
     assert library_query.world_label_text(216, 5.4701) == "World 216 \u00b7 5.47 s"
-    assert library_query.world_label_text(216, 5.4701, 3, 3) == "World 216 \u00b7 5.47 s \u00b7 3 of 3 boxes"
-    assert library_query.world_label_text(7, 0.5, 0, 1) == "World 7 \u00b7 0.50 s \u00b7 0 of 1 box"
+    assert library_query.world_label_text(216, 5.4701, 3, 3) == "World 216 \u00b7 5.47 s \u00b7 3 of 3 parts"
+    assert library_query.world_label_text(7, 0.5, 0, 1) == "World 7 \u00b7 0.50 s \u00b7 0 of 1 part"
 
 
 def test_a_hundred_constraints_with_one_approximation_fold_into_one_line_that_counts_them():

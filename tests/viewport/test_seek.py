@@ -5,10 +5,10 @@ blend_examples/quickstart/quickstart.blend. As a user would: Sample makes a firs
 worlds; the viewport looks through the scene camera at the last frame, and three boxes are drawn
 in it over the camera's frame (the marble in the left bin, the cone in the middle one, the pill in
 the right one, in the last second: tests/shared/quickstart_goal.py), which no first world meets
-together; Ranking is set to Boxes Met, best first. Seek is pressed as its button presses it, with
-Find 1 and the default budget. While it runs, the panel's line "best N of 3 boxes (world W), K
+together; Ranking is set to Goal Parts Met, best first. Seek is pressed as its button presses it, with
+Find 1 and the default budget. While it runs, the panel's line "best N of 3 parts (world W), K
 worlds made" never goes down and world W is the world selected; it ends with "Goal reached: 1
-world meets all 3 boxes" and the selected, previewed world meets all three by the add-on's own
+world meets all 3 parts" and the selected, previewed world meets all three by the add-on's own
 query. A second seek (Find 1000, a large budget) is stopped with Esc: every world made stays.
 Full-window screenshots (seeking, ended, cancelled) show the sidebar's Many Worlds tab at its
 default width with the Query Boxes panel. Exit code 0 = pass.
@@ -42,7 +42,7 @@ THREADS = 2
 HEADER_BELOW_TOP_PX = 15
 FOLDED_PANEL_PX = 28
 TAB_BELOW_TOP_PX = 182
-SEEKING = re.compile(r"Seeking: best (\d+) of 3 boxes \(world (\d+)\), ([\d,]+) worlds made")
+SEEKING = re.compile(r"Seeking: best (\d+) of 3 parts \(world (\d+)\), ([\d,]+) worlds made")
 
 
 def simulate(window, kind, value, x, y):
@@ -86,7 +86,7 @@ def camera_frame_px(region):
 
 
 def boxes_met(world):
-    """The boxes a world meets, as the add-on's query (Ranking's Boxes Met) counts them."""
+    """The boxes a world meets, as the add-on's query (Ranking's Goal Parts Met) counts them."""
     return int(scene_boxes.library_query().result.boxes_satisfied[SESSION.view.world_indices.index(world)])
 
 
@@ -114,7 +114,7 @@ def steps():
     yield from show_query_panel(window, area)
 
     # Through the scene camera, its frame filling the viewport, at the run's end (where the boxes
-    # are met); Ranking by Boxes Met, descending, lists every world with the best first.
+    # are met); Ranking by Goal Parts Met, descending, lists every world with the best first.
     area.spaces.active.region_3d.view_perspective = "CAMERA"
     with bpy.context.temp_override(window=window, area=area, region=region):
         bpy.ops.view3d.view_center_camera()

@@ -14,7 +14,12 @@ expert settings start collapsed, that the Paths panel says when a drawing budget
 out, that the panel says which objects a new box tests (and which
 selected objects it leaves out), that the Boxes panel counts the worlds indexed while the path
 index fills, and that the preview state and an edit during it are said.
-The sidebar at its top, halfway and at its end is kept as sidebar.png (the README's picture).
+Pose parts (Add Pose with Box0 selected: upright; with Box1: never its local +X up for over 0.5 s)
+are listed with the boxes, each one's settings fit, the viewport draws each part's cone and its
+object's axis on the object (the pixels the overlay changes near each object), and with nothing
+selected the greyed-out Add Pose says why.
+The sidebar at its top, halfway and at its end is kept as sidebar.png, and the pose parts beside
+the last one's settings as pose_parts.png (the README's pictures).
 Exit code 0 = pass.
 """
 import contextlib
@@ -35,11 +40,14 @@ from many_worlds.core import library_query, path_budget  # noqa: E402
 from many_worlds.operators import browsing  # noqa: E402
 from many_worlds.thumbnails import THUMBNAILS  # noqa: E402
 from many_worlds.draw import paths as path_overlay  # noqa: E402
-from many_worlds.ui import panels  # noqa: E402
+from many_worlds.ui import fit, panels  # noqa: E402
 import label_fit  # noqa: E402
 from sidebar_recording import (OUT_DIR, crop, measure, open_expert_panels, record_panels, redraw_all,  # noqa: E402
                                save_rgb, scroll, show_many_worlds_tab, texts, window_screenshot)
 from viewport_helpers import add_camera, no_tooltips, run_steps, viewport  # noqa: E402
+from viewport_helpers import screenshot as viewport_screenshot  # noqa: E402
+from bpy_extras import view3d_utils  # noqa: E402
+from many_worlds.draw import poses as pose_overlay  # noqa: E402
 
 TICK_S = 0.3
 # Wheel steps that bring the Physics tab's Rigid Body settings, with the variation subpanel inside
@@ -82,6 +90,88 @@ def thumbnails_made(timeout_s=60):
         assert time.monotonic() < deadline, "thumbnails were not made"
         yield 0.1
         redraw_all()
+
+
+def pose_pixels(drawn, without, ob, region, radius_px=80):
+    """Counts of the pixels the pose overlay changed within `radius_px` of where `ob`'s origin is
+    drawn (screenshots of the region with and without it), by what they look like: green or red
+    (a positive or a negative cone; tinted where a box's fill is drawn over them), white or yellow
+    (the object's axis within its cone or out of it)."""
+    x, y = view3d_utils.location_3d_to_region_2d(region, region.data, ob.matrix_world.translation)
+    rows, cols = np.ogrid[:drawn.shape[0], :drawn.shape[1]]
+    changed = drawn[(((rows - y) ** 2 + (cols - x) ** 2) < radius_px ** 2) & (np.abs(drawn - without).sum(-1) > 0.3)]
+    r, g, b = changed.T
+    return {"green": int(((g > r + 0.3) & (g > b + 0.3)).sum()), "red": int(((r > g + 0.3) & (r > b + 0.3)).sum()),
+            "white": int((changed.min(axis=-1) > 0.85).sum()), "yellow": int(((r > 0.8) & (g > 0.7) & (b < 0.4)).sum())}
+
+
+def add_pose_for(names, window, area, region):
+    """Press Add Pose with the objects named selected; returns the part it added."""
+    for ob in bpy.data.objects:
+        ob.select_set(ob.name in names)
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        assert bpy.ops.mwb.add_pose() == {"FINISHED"}
+    return bpy.context.scene.mwb.boxes[-1]
+
+
+def pose_part_state(results, window, area, region):
+    """Add Pose pressed with Box0 and the ground selected (an Upright part), then with Box1 (made a
+    negative part: local +X never towards +Z for over 0.5 s), at the previewed world's last frame:
+    the Boxes panel lists them with the boxes and shows each one's settings with no text cut, the
+    viewport draws each part's cone and its object's axis on the object, and with nothing selected
+    the greyed-out Add Pose says why."""
+    scene = bpy.context.scene
+    upright = add_pose_for(("Box0", "Ground"), window, area, region)
+    assert [b.name for b in upright.bodies] == ["Box0"], "the passive ground was posed"
+    upright_index = scene.mwb.box_index
+    sideways = add_pose_for(("Box1",), window, area, region)
+    sideways.pose_mode, sideways.pose_axis, sideways.pose_direction = "AXIS", "POS_X", "POS_Z"
+    sideways.negative, sideways.longer_than_s, sideways.within_deg = True, 0.5, 30.0
+    frame = scene.frame_current
+    scene.frame_set(scene.frame_end)
+    for index, state, said in (
+            (upright_index, "pose_part", (f"Pose {upright_index + 1} tests Box0",
+                                          "Keeps worlds where Box0's local +Z faces up", "Now: Box0")),
+            (scene.mwb.box_index, "pose_axis_negative", (f"Pose {scene.mwb.box_index + 1} tests Box1",
+                                                         "Rejects worlds where Box1's local +X faces +Z for over "
+                                                         f"0.50{fit.NO_BREAK_SPACE}s", "towards", "Longer Than"))):
+        scene.mwb.box_index = index
+        yield
+        redraw_all()
+        results.append(measure(state))
+        shot = window_screenshot(f"{state}.png")
+        boxes_text = " ".join(texts("Boxes"))
+        assert all(text in boxes_text for text in said), (said, boxes_text)
+    # The parts on their objects beside the last one's settings (the README's picture).
+    sidebar = next(r for r in area.regions if r.type == "UI")
+    left = region.x + int(region.width * 0.3)
+    save_rgb(shot[sidebar.y:sidebar.y + sidebar.height, left:sidebar.x + sidebar.width], "pose_parts.png")
+    if os.environ.get("MWB_TEST_ARTIFACTS"):
+        shutil.copy(os.path.join(OUT_DIR, "pose_parts.png"), os.path.join(os.environ["MWB_TEST_ARTIFACTS"],
+                                                                          "pose_parts.png"))
+    drawn = viewport_screenshot(OUT_DIR, "pose_parts_viewport.png")
+    pose_overlay.OVERLAY.remove()
+    try:
+        without = viewport_screenshot(OUT_DIR, "pose_parts_viewport_without.png")
+    finally:
+        pose_overlay.OVERLAY.add()
+    upright_px = pose_pixels(drawn, without, bpy.data.objects["Box0"], region)
+    sideways_px = pose_pixels(drawn, without, bpy.data.objects["Box1"], region)
+    assert upright_px["green"] > 100 and sideways_px["red"] > 100, (upright_px, sideways_px)
+    assert upright_px["white"] + upright_px["yellow"] > 20 and sideways_px["white"] + sideways_px["yellow"] > 20, (
+        upright_px, sideways_px)
+    # Nothing selected: Add Pose greys out and the panel says why.
+    for ob in bpy.data.objects:
+        ob.select_set(False)
+    yield
+    redraw_all()
+    results.append(measure("pose_nothing_selected"))
+    window_screenshot("pose_nothing_selected.png")
+    assert "To add a pose, select objects the simulation moves" in " ".join(texts("Boxes"))
+    for ob in bpy.data.objects:
+        ob.select_set(ob.name in ("Box0", "Ground"))
+    scene.frame_set(frame)
+    yield
 
 
 def steps():
@@ -168,6 +258,9 @@ def steps():
     worlds_text = " ".join(texts("Worlds & Ranking"))
     assert f"Previewing world {scene.mwb.selected_world}" in worlds_text, worlds_text
     assert "Of Box0" in worlds_text, "the ranking does not default to the boxes' objects"
+
+    # Pose parts, at the previewed world's last frame: listed with the boxes, drawn on their objects.
+    yield from pose_part_state(results, window, area, region)
 
     # An edit during the preview: asked to end it, not reverted behind the user's back.
     moved = bpy.data.objects["Box1"]

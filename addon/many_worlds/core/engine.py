@@ -217,14 +217,15 @@ def rejections_text(rejected, reasons, shown=2):
     return f"{rejected:,} rejected" + (f" ({'; '.join(parts)})" if parts else "")
 
 
-def _boxes(count):
-    return "1 box" if count == 1 else f"{count} boxes"
+def parts_text(count):
+    """'1 part', '6 parts': a goal's parts, boxes and poses together (the engine counts both)."""
+    return "1 part" if count == 1 else f"{count} parts"
 
 
 def seek_progress_text(progress):
-    """'best 5 of 6 boxes (world 418), 3,120 worlds made', and how many meet the goal once some do."""
+    """'best 5 of 6 parts (world 418), 3,120 worlds made', and how many meet the goal once some do."""
     best = f" (world {progress.best_world})" if progress.best_world >= 0 else ""
-    text = (f"best {progress.boxes_met} of {_boxes(progress.box_count)}{best}, "
+    text = (f"best {progress.boxes_met} of {parts_text(progress.box_count)}{best}, "
             f"{progress.worlds_made:,} worlds made")
     if progress.worlds_rejected:
         text += f" ({progress.worlds_rejected:,} rejected)"
@@ -239,22 +240,22 @@ def _world_list(worlds, limit=8):
 
 
 def seek_outcome_text(outcome, want):
-    """One line on how a seek ended, e.g. 'Goal reached: 3 worlds meet all 6 boxes (412, 415, 430);
-    1,204 worlds made in 61.2 s' or 'Budget spent: best world 418 meets 5 of 6 boxes; ...'."""
+    """One line on how a seek ended, e.g. 'Goal reached: 3 worlds meet all 6 parts (412, 415, 430);
+    1,204 worlds made in 61.2 s' or 'Budget spent: best world 418 meets 5 of 6 parts; ...'."""
     made = f"{outcome.worlds_made:,} worlds made in {outcome.seconds:.1f} s"
     lost = rejections_text(outcome.rejected, outcome.reject_reasons)
     if lost:
         made += f", {lost}"
     found = list(outcome.found)
     noun = "world meets" if len(found) == 1 else "worlds meet"
-    every = "the box" if outcome.boxes == 1 else f"all {outcome.boxes} boxes"
+    every = "the goal" if outcome.boxes == 1 else f"all {outcome.boxes} parts"
     if outcome.reached:
         return f"Goal reached: {len(found)} {noun} {every} ({_world_list(found)}); {made}"
     if found:
         return f"Budget spent: {len(found)} {noun} {every} ({_world_list(found)}) of {want} wanted; {made}"
     if outcome.best < 0:
-        return f"Budget spent: no world meets any of the {_boxes(outcome.boxes)}; {made}"
-    return (f"Budget spent: best world {outcome.best} meets {outcome.best_boxes_met} of {_boxes(outcome.boxes)}; "
+        return f"Budget spent: no world meets any of the {parts_text(outcome.boxes)}; {made}"
+    return (f"Budget spent: best world {outcome.best} meets {outcome.best_boxes_met} of {parts_text(outcome.boxes)}; "
             f"{made}")
 
 

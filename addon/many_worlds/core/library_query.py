@@ -323,12 +323,14 @@ class LibraryQuery:
             self._fill = None
 
     def native_box(self, spec):
-        """The module's QueryBox of a BoxSpec; its `after` counts in the list it is queried with."""
+        """The module's QueryBox of a BoxSpec or PoseSpec; its `after` counts in the list it is queried
+        with."""
         return native_box(spec, self.native)
 
     def evaluate(self, specs: Sequence[BoxSpec]):
-        """Run the boxes (AND; an ordered box counts when met after its predecessor) and store the
-        match flags in the view. Returns a QueryResult. Raises ValueError for an ordering cycle.
+        """Run the boxes and pose parts (AND; an ordered part counts when met after its predecessor)
+        and store the match flags in the view. Returns a QueryResult. Raises ValueError for an
+        ordering cycle.
 
         Each evaluation posts a new generation first, so a query still running for an older box
         set (from another thread) stops early instead of finishing work nobody will read. While

@@ -1,5 +1,5 @@
 """Viewport overlays drawn with the gpu and blf modules (no bgl)."""
-from . import boxes, paths, world_label
+from . import boxes, paths, poses, world_label
 
 classes = ()
 
@@ -7,10 +7,12 @@ classes = ()
 def add_handlers():
     paths.OVERLAY.add()
     boxes.OVERLAY.add()
+    poses.OVERLAY.add()
     world_label.OVERLAY.add()
 
 
 def remove_handlers():
     world_label.OVERLAY.remove()
+    poses.OVERLAY.remove()
     boxes.OVERLAY.remove()
     paths.OVERLAY.remove()

@@ -60,7 +60,8 @@ class BoxOverlay(ViewportOverlay):
         mwb = getattr(context.scene, "mwb", None)
         if mwb is not None and region_3d is not None:
             for box in mwb.boxes:
-                if view_matches(box, region, region_3d):
+                # Pose parts are drawn on their objects (draw/poses.py).
+                if box.kind != "POSE" and view_matches(box, region, region_3d):
                     colour = NEGATIVE_COLOR if box.negative else POSITIVE_COLOR
                     if not box.enabled:
                         colour = (*colour[:3], DISABLED_ALPHA)

@@ -1,6 +1,7 @@
 """The viewport's label of the previewed world, bottom-left in the 3D view's region: its index,
-when it came to rest, and how many of the enabled boxes it meets, under a line saying the scene is
-in preview (or which edit waits for the user to end it). Drawn only while a world is selected."""
+when it came to rest, and how many of the goal's enabled parts (boxes and poses) it meets, under
+a line saying the scene is in preview (or which edit waits for the user to end it). Drawn only
+while a world is selected."""
 import blf
 import bpy
 

@@ -222,22 +222,23 @@ class MWB_OT_add_box(bpy.types.Operator):
         return {"FINISHED"}
 
 
-def _box_at(context, index):
+def part_at(context, index):
+    """(index, the box or pose part at `index` of the scene's list, or None); -1: the active one."""
     boxes = context.scene.mwb.boxes
     index = context.scene.mwb.box_index if index < 0 else index
     return (index, boxes[index]) if 0 <= index < len(boxes) else (index, None)
 
 
 class MWB_OT_remove_box(bpy.types.Operator):
-    """Delete a query box"""
+    """Delete a query box or pose part"""
     bl_idname = "mwb.remove_box"
     bl_label = "Remove Box"
     bl_options = {"REGISTER", "UNDO"}
 
-    index: IntProperty(name="Index", default=-1, description="Box to remove; -1: the active one")
+    index: IntProperty(name="Index", default=-1, description="Box or pose part to remove; -1: the active one")
 
     def execute(self, context):
-        index, box = _box_at(context, self.index)
+        index, box = part_at(context, self.index)
         if box is None:
             return {"CANCELLED"}
         settings = context.scene.mwb
@@ -248,9 +249,9 @@ class MWB_OT_remove_box(bpy.types.Operator):
 
 
 class MWB_OT_clear_boxes(bpy.types.Operator):
-    """Delete every query box: all worlds match again"""
+    """Delete every query box and pose part: all worlds match again"""
     bl_idname = "mwb.clear_boxes"
-    bl_label = "Clear Boxes"
+    bl_label = "Clear Boxes and Poses"
     bl_options = {"REGISTER", "UNDO"}
 
     def execute(self, context):
@@ -261,15 +262,15 @@ class MWB_OT_clear_boxes(bpy.types.Operator):
 
 
 class MWB_OT_box_use_selected(bpy.types.Operator):
-    """Make the box test the selected objects the simulation moves (passive and animated ones are left out)"""
+    """Make the box or pose test the selected objects the simulation moves (passive and animated ones are left out)"""
     bl_idname = "mwb.box_use_selected"
     bl_label = "Use Selected"
     bl_options = {"REGISTER", "UNDO"}
 
-    index: IntProperty(name="Index", default=-1, description="Box to change; -1: the active one")
+    index: IntProperty(name="Index", default=-1, description="Box or pose part to change; -1: the active one")
 
     def execute(self, context):
-        _, box = _box_at(context, self.index)
+        _, box = part_at(context, self.index)
         if box is None:
             return {"CANCELLED"}
         names, left_out = scene_boxes.body_choice(context)
@@ -294,8 +295,8 @@ class MWB_OT_view_box(bpy.types.Operator):
         return getattr(context.space_data, "type", "") == "VIEW_3D"
 
     def execute(self, context):
-        _, box = _box_at(context, self.index)
-        if box is None:
+        _, box = part_at(context, self.index)
+        if box is None or box.kind == "POSE":
             return {"CANCELLED"}
         region_3d = context.space_data.region_3d
         stored = list(box.view_matrix)

@@ -1,7 +1,7 @@
-"""Seek: refine the open library's worlds until some meet every enabled query box.
+"""Seek: refine the open library's worlds until some meet every enabled part of the goal.
 
-The goal is the enabled boxes, each box met after the one it is ordered after (if that one is
-enabled too). `mwb-engine seek` refines worlds again and again, appending each to the library as
+The goal is the enabled boxes and pose parts, each met after the part it is ordered after (if that
+one is enabled too). `mwb-engine seek` refines worlds again and again, appending each to the library as
 it is made; the run goes through the run poller, so worlds stream into the list and the
 viewport, Esc / Cancel stops it and keeps every world made, and only one engine run exists at a
 time. Whenever the engine names a new best world, it is selected and previewed as if clicked in
@@ -27,16 +27,16 @@ def seek_problem(scene):
     if SESSION.view is None:
         return "Open or sample a library first"
     if not scene_boxes.enabled_specs(scene, SESSION.view):
-        return "Draw a box first: the goal is every enabled box (over bodies the library has)"
+        return "Draw a box or add a pose first: the goal is every enabled part (over bodies the library has)"
     return ""
 
 
 class SeekFollower:
     """The panel's line while a seek runs and when it ends; selects each new best world."""
 
-    def __init__(self, want, box_count):
+    def __init__(self, want, part_count):
         self.want = want
-        self.box_count = box_count
+        self.part_count = part_count
         self.selected = -1
         self.shown = None   # the SeekProgress the panel shows
 
@@ -57,7 +57,7 @@ class SeekFollower:
             self.shown = progress
             self._select(scene, progress.best_world)
         if self.shown is None:
-            return f"Seeking {self.box_count} boxes: first worlds under way"
+            return f"Seeking {engine_process.parts_text(self.part_count)}: first worlds under way"
         return f"Seeking: {engine_process.seek_progress_text(self.shown)}"
 
     def ended(self, scene, run, stored):
@@ -76,8 +76,8 @@ class SeekFollower:
 
 
 def start_seek(context):
-    """Write the goal of the enabled boxes beside the open library and start the engine seeking.
-    Returns (ok, message)."""
+    """Write the goal of the enabled boxes and pose parts beside the open library and start the
+    engine seeking. Returns (ok, message)."""
     scene = context.scene
     settings = scene.mwb
     problem = seek_problem(scene)
@@ -91,7 +91,8 @@ def start_seek(context):
         request = engine_process.SeekRequest(view.path, goal_path, settings.seek_want, settings.seek_budget_worlds,
                                              settings.seek_budget_s, threads=settings.threads)
         start_run(scene, RunKind.SEEK, request, view.path,
-                  f"Seeking {settings.seek_want} {noun} meeting {len(specs)} boxes in {os.path.basename(view.path)}",
+                  f"Seeking {settings.seek_want} {noun} meeting {engine_process.parts_text(len(specs))} in "
+                  f"{os.path.basename(view.path)}",
                   follower=SeekFollower(settings.seek_want, len(specs)))
     except (ValueError, OSError) as error:
         return False, str(error)
@@ -99,8 +100,8 @@ def start_seek(context):
 
 
 class MWB_OT_seek(FollowsRun, bpy.types.Operator):
-    """Refine worlds until some meet every enabled box (in their order); new worlds stream in and
-    the best one is previewed (Esc cancels; every world made stays)"""
+    """Refine worlds until some meet every enabled box and pose (in their order); new worlds stream
+    in and the best one is previewed (Esc cancels; every world made stays)"""
     bl_idname = "mwb.seek"
     bl_label = "Seek"
 

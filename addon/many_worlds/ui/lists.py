@@ -1,7 +1,8 @@
-"""Lists: stored worlds, query boxes, and the worlds ranked by a metric."""
+"""Lists: stored worlds, the goal's parts (query boxes and poses), and the worlds ranked by a metric."""
 import bpy
 
 from .. import scene_boxes
+from ..props import part_name
 from ..core import family as core_family
 from ..core.session import SESSION
 from ..draw.boxes import view_matches
@@ -62,24 +63,31 @@ class MWB_UL_worlds(bpy.types.UIList):
 
 
 class MWB_UL_boxes(bpy.types.UIList):
-    """One row per query box: enabled, positive/negative, its number and order, a clock with a time
-    window, whether the viewport shows its view. The panel names the active box's bodies below the
-    list (a row has no room for names at the sidebar's width)."""
+    """One row per goal part, box or pose: enabled, positive/negative, its kind and number, its order,
+    a clock with a time window, whether the viewport shows a box's view. The panel names the active
+    part's bodies below the list (a row has no room for names at the sidebar's width)."""
 
     def draw_item(self, context, layout, data, item, icon, active_data, active_propname, index=0, flt_flag=0):
         row = layout.row(align=True)
         row.prop(item, "enabled", text="")
         row.prop(item, "negative", text="", icon="REMOVE" if item.negative else "ADD", toggle=True)
-        row.label(text=f"Box {index + 1}" + (f" after {item.after_box + 1}" if item.after_box >= 0 else ""))
+        after = f" after {item.after_box + 1}" if item.after_box >= 0 else ""
+        # The name says the kind: a row has no room for an icon of it at the sidebar's width.
+        row.label(text=part_name(item, index) + after)
         if item.use_time_window:
             row.label(text="", icon="TIME")
+        if item.kind != "POSE":
+            self.draw_view_state(context, row, item, index)
+        row.operator("mwb.remove_box", text="", icon="X", emboss=False).index = index
+
+    @staticmethod
+    def draw_view_state(context, row, item, index):
         region_3d = getattr(context.space_data, "region_3d", None)
         area = context.area
         window_region = next((r for r in area.regions if r.type == "WINDOW"), None) if area else None
         if region_3d is not None and window_region is not None and not view_matches(item, window_region, region_3d):
             # Drawn through another view: not shown in the overlay; View Box goes back to it.
             row.operator("mwb.view_box", text="", icon="HIDE_ON", emboss=False).index = index
-        row.operator("mwb.remove_box", text="", icon="X", emboss=False).index = index
 
 
 def ranking_columns(layout):
@@ -96,8 +104,8 @@ def ranking_columns(layout):
 
 
 class MWB_UL_ranking(bpy.types.UIList):
-    """The stored worlds ordered by the ranking metric; worlds the boxes reject are hidden (unless
-    the metric is Constraints Satisfied). Clicking a row previews that world."""
+    """The stored worlds ordered by the ranking metric; worlds the goal's parts reject are hidden
+    (unless the metric is Goal Parts Met). Clicking a row previews that world."""
 
     def filter_items(self, context, data, propname):
         ranking = scene_boxes.RANKING.get(context)

@@ -6,10 +6,10 @@ import os
 
 import bpy
 
-from .. import preview, props, scene_boxes
+from .. import pose_parts, preview, props, scene_boxes
 from . import filmstrip, fit, legend, lists
 from .fit import wrapped_labels
-from ..core import library_query
+from ..core import library_query, pose_target
 from ..core.export_warnings import grouped_warning_lines
 from ..operators import sampling, seeking
 from ..core.run import RunKind
@@ -104,6 +104,11 @@ class MWB_PT_sampling_expert(SidebarPanel, bpy.types.Panel):
 
 # --- 2. Boxes and Seek ---------------------------------------------------------------------------
 
+# The kinds of goal parts: a box drawn on screen, a pose of an object's own axes.
+BOX_ICON = "SELECT_SET"
+POSE_ICON = "ORIENTATION_LOCAL"
+
+
 class MWB_PT_query(SidebarPanel, bpy.types.Panel):
     bl_label = "Boxes"
     bl_idname = "MWB_PT_query"
@@ -120,13 +125,22 @@ class MWB_PT_query(SidebarPanel, bpy.types.Panel):
         self.draw_new_box_bodies(context, layout)
         if SESSION.box_note:
             wrapped_labels(layout, context, SESSION.box_note, "ERROR")
-        row = layout.row(align=True)
-        row.operator("mwb.draw_box", text="Draw Box", icon="SELECT_SET").negative = False
+        col = layout.column(align=True)
+        row = col.row(align=True)
+        row.operator("mwb.draw_box", text="Draw Box", icon=BOX_ICON).negative = False
         row.operator("mwb.draw_box", text="Negative", icon="SELECT_SUBTRACT").negative = True
-        wrapped_labels(layout, context, "Or Ctrl+Alt+drag in the viewport (with Shift: negative)", "MOUSE_LMB_DRAG")
+        col.operator("mwb.add_pose", text="Add Pose", icon=POSE_ICON)
+        # A greyed-out Add Pose says why, here as in its tooltip.
+        problem = scene_boxes.new_pose_problem(context)
+        if problem:
+            wrapped_labels(layout, context, problem, "ERROR")
+        wrapped_labels(layout, context, "Or Ctrl+Alt+drag in the viewport to draw a box (with Shift: negative)",
+                       "MOUSE_LMB_DRAG")
         layout.template_list("MWB_UL_boxes", "", settings, "boxes", settings, "box_index", rows=3)
         if 0 <= settings.box_index < len(settings.boxes):
-            self.draw_active_box(context, layout, settings.boxes[settings.box_index], settings.box_index)
+            part = settings.boxes[settings.box_index]
+            draw = self.draw_active_pose if part.kind == "POSE" else self.draw_active_box
+            draw(context, layout, part, settings.box_index)
         if len(settings.boxes):
             layout.operator("mwb.clear_boxes", icon="TRASH")
 
@@ -156,9 +170,72 @@ class MWB_PT_query(SidebarPanel, bpy.types.Panel):
         sub.prop(box, "time_end_s")
         col = layout.column(align=True)
         col.prop(box, "swept")
-        row = col.row(align=True)
-        row.label(text="Met After")
-        row.prop(box, "after", text="")
+        draw_met_after(col, box)
+
+    @staticmethod
+    def draw_active_pose(context, layout, part, index):
+        bodies = ", ".join(b.name for b in part.bodies) or "no bodies"
+        wrapped_labels(layout, context, f"Pose {index + 1} tests {bodies}", POSE_ICON)
+        layout.operator("mwb.box_use_selected", icon="RESTRICT_SELECT_OFF").index = index
+        layout.row(align=True).prop(part, "pose_mode", expand=True)
+        if part.pose_mode == pose_target.AXIS:
+            row = layout.row(align=True)
+            row.prop(part, "pose_axis", text="")
+            row.label(text="towards")
+            row.prop(part, "pose_direction", text="")
+        elif part.pose_mode == pose_target.AS_POSED:
+            layout.operator("mwb.pose_use_current", icon="ARMATURE_DATA").index = index
+        wrapped_labels(layout, context, pose_text(part), "INFO")
+        layout.prop(part, "within_deg", text="Within (°)")
+        now = pose_now_text(part)
+        if now:
+            wrapped_labels(layout, context, now[0], now[1])
+        col = layout.column(align=True)
+        if part.negative:
+            col.prop(part, "longer_than_s")
+        col.prop(part, "use_time_window")
+        if not part.use_time_window:
+            wrapped_labels(col, context, "No time window: held throughout the run" if not part.negative
+                           else "No time window: over the whole run", "INFO")
+        sub = col.column(align=True)
+        sub.active = part.use_time_window
+        sub.prop(part, "time_start_s")
+        sub.prop(part, "time_end_s")
+        draw_met_after(layout.column(align=True), part)
+
+
+def draw_met_after(layout, part):
+    row = layout.row(align=True)
+    row.label(text="Met After")
+    row.prop(part, "after", text="")
+
+
+def pose_text(part):
+    """What a pose part keeps, in words: "Keeps worlds where Die's local +Z faces up"."""
+    side, direction = pose_target.describe(part.pose_mode, part.pose_axis, part.pose_direction,
+                                           tuple(part.pose_captured_axis))
+    if side is None:
+        return "No pose captured yet: press Use Current Pose"
+    names = [item.name for item in part.bodies]
+    if not part.negative:
+        whose = f"{names[0]}'s" if len(names) == 1 else "each object's"
+        return f"Keeps worlds where {whose} {side} faces {direction}"
+    whose = f"{names[0]}'s" if len(names) == 1 else "an object's"
+    longer = f"for over {part.longer_than_s:.2f}{fit.NO_BREAK_SPACE}s" if part.longer_than_s > 0 else "at any moment"
+    return f"Rejects worlds where {whose} {side} faces {direction} {longer}"
+
+
+def pose_now_text(part):
+    """(text, icon): how far the part's objects are from its direction at this frame, ticked when
+    that pose is the one the part keeps (all within; for a negative part, none), or None."""
+    angles = pose_parts.angles_now(part)
+    if not angles:
+        return None
+    shown = ", ".join(f"{name} {angle:.0f}°" for name, angle in angles[:3])
+    more = f" and {len(angles) - 3} more" if len(angles) > 3 else ""
+    within = [angle <= part.within_deg for _, angle in angles]
+    kept = not any(within) if part.negative else all(within)
+    return f"Now: {shown}{more} off", "CHECKMARK" if kept else "CANCEL"
 
 
 class MWB_PT_seek(SidebarPanel, bpy.types.Panel):
