@@ -169,7 +169,7 @@ def pose_part(bodies: Sequence[int], within_deg: float, axis: Tuple[float, float
 class RankingMetric:
     name: str
     label: str
-    unit: str  # 'rad', 's', 'm', 'hits' or 'boxes'
+    unit: str  # 'rad', 's', 'm', 'hits' or 'parts'
     help: str
 
 class QueryResult:

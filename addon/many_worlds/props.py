@@ -270,9 +270,7 @@ class MWB_QueryBox(bpy.types.PropertyGroup):
 def _rank_metric_items():
     # The module's catalog, in its order: a saved choice is stored by its position, and the count
     # of goal parts (once "constraints_satisfied", now "boxes_met") keeps its place at the end.
-    from .core.library_query import BOXES_MET, BOXES_MET_HELP, BOXES_MET_LABEL
-    return [(m.name, BOXES_MET_LABEL, BOXES_MET_HELP) if m.name == BOXES_MET
-            else (m.name, m.label, f"{m.help} ({m.unit})") for m in _native.ranking_metrics()]
+    return [(m.name, m.label, f"{m.help} ({m.unit})") for m in _native.ranking_metrics()]
 
 
 RANK_METRICS = _rank_metric_items()

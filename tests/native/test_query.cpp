@@ -468,7 +468,7 @@ TEST(RankingMetrics, TheCatalogStartsWithTheStoredMetricsAndNamesEachOnce) {
     std::set<std::string> names;
     for (const RankingMetric& m : metrics) {
         EXPECT_TRUE(names.insert(m.name).second) << m.name;
-        EXPECT_TRUE(std::set<std::string>({"rad", "s", "m", "hits", "boxes"}).count(m.unit)) << m.name << " " << m.unit;
+        EXPECT_TRUE(std::set<std::string>({"rad", "s", "m", "hits", "parts"}).count(m.unit)) << m.name << " " << m.unit;
         EXPECT_FALSE(m.label.empty() || m.help.empty()) << m.name;
     }
     EXPECT_TRUE(names.count("boxes_met") && names.count("orientation_to_goal_rad"));

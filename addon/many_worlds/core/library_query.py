@@ -15,13 +15,10 @@ from typing import Optional, Sequence, Tuple
 
 import numpy as np
 
-# The ranking metric counting the boxes each world meets (the module's catalog names every metric,
-# see _native.ranking_metrics()); then every world is listed, not only the matching ones.
+# The ranking metric counting the goal's parts (boxes and poses) each world meets (the module's
+# catalog names and labels every metric, see _native.ranking_metrics()); then every world is
+# listed, not only the matching ones.
 BOXES_MET = "boxes_met"
-# It counts every enabled part of the goal, pose parts as well as boxes: the sidebar names it so.
-BOXES_MET_LABEL = "Goal Parts Met"
-BOXES_MET_HELP = ("How many enabled goal parts (boxes and poses) each world meets; lists every world, "
-                  "not only the matching ones")
 # Names metrics had before; files and scripts that use them keep working.
 OLD_METRIC_NAMES = {"constraints_satisfied": BOXES_MET}
 

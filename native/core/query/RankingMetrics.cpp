@@ -10,8 +10,9 @@ const std::vector<RankingMetric>& ranking_metrics() {
         {"orientation_change_rad", "Orientation Change", "rad", "Angle between the first and last orientation"},
         {"path_length_m", "Path Length", "m", "How far the bodies' origins travelled"},
         {"orientation_to_goal_rad", "Upright", "rad", "Angle of the final orientation from the object's unrotated pose"},
-        {"boxes_met", "Boxes Met", "boxes",
-         "How many enabled boxes each world meets; lists every world, not only the matching ones"},
+        {"boxes_met", "Goal Parts Met", "parts",
+         "How many enabled goal parts (boxes and poses) each world meets; lists every world, not only the matching "
+         "ones"},
     };
     return metrics;
 }
