@@ -21,7 +21,7 @@ from typing import List
 import bpy
 import numpy as np
 
-from . import _native, compat, preview
+from . import compat, preview
 from .core import arrays
 from .export import PREBAKE_MATRIX
 from .core.session import SESSION
@@ -147,10 +147,10 @@ def bake_world(context, world):
     """Bake one world of the open library onto the scene's objects and hide the objects whose
     bodies it does not have. Returns a BakeOutcome."""
     view = SESSION.view
-    positions, orientations, record_hz = view.decoded(world)
+    record_hz = view.record_hz(world)
     # Keys run to the end of the run: a world that came to rest holds its last pose there.
     frames = arrays.bake_scene_frames(view.frame_start, view.fps, record_hz,
-                                      max(positions.shape[1], view.run_frame_count))
+                                      max(view.library.frame_count(world), view.run_frame_count))
     world_frames = arrays.world_frame_of_scene_frame(frames, view.frame_start, view.fps, record_hz)
     present = view.present(world)
     simulated = view.simulated_bodies()
@@ -167,8 +167,7 @@ def bake_world(context, world):
     users = compat.AnimationUsers(bpy.data.objects)
     warnings = animation_warnings([ob for _, ob in pairs] + absent, users)
     if pairs:
-        index = np.array([i for i, _ in pairs])
-        loc, rot = _native.sample_tracks(positions[index], orientations[index], world_frames)
+        loc, rot = view.library.poses(world, world_frames, [i for i, _ in pairs])
         bake_objects([ob for _, ob in pairs], frames.astype(np.float64), loc, rot, users=users)
     for i, ob in every:
         if present[i]:

@@ -15,7 +15,6 @@ A rigid body world switched on during the preview stays on when it ends.
 import bpy
 from mathutils import Matrix, Quaternion, Vector
 
-from . import _native
 from .core import arrays
 from .core.session import SESSION
 
@@ -109,9 +108,8 @@ def apply(scene, frame=None):
         return
     if frame is None:
         frame = scene.frame_current + scene.frame_subframe
-    positions, orientations, record_hz = view.decoded(world)
-    world_frame = arrays.world_frame_of_scene_frame([frame], view.frame_start, view.fps, record_hz)
-    loc, rot = _native.sample_tracks(positions, orientations, world_frame)
+    world_frame = arrays.world_frame_of_scene_frame([frame], view.frame_start, view.fps, view.record_hz(world))
+    loc, rot = view.library.poses(world, world_frame)
     present = view.present(world)
     simulated = set(view.simulated_bodies())
     saved = _saved_items(settings)

@@ -3,8 +3,10 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <map>
+#include <optional>
 
 #include "codec/CodecError.h"
 #include "library/ByteIO.h"
@@ -12,6 +14,7 @@
 #include "library/LibraryReader.h"
 #include "library/PolylineGather.h"
 #include "library/WorldDecoding.h"
+#include "sim/PoseInterpolation.h"
 #include "PyLibrary.h"
 
 namespace py = pybind11;
@@ -67,6 +70,40 @@ py::array_t<double> decoded(const PyLibrary& l, uint64_t w, std::vector<double> 
         data = decode(world, l.reader().scene_body_count());
     }
     return as_array(std::move(data), {static_cast<py::ssize_t>(body_rows(l, world)), world.frame_count, width});
+}
+
+// (loc (n, frames, 3), rot (n, frames, 4)) of `bodies` (every body when None) at fractional
+// recorded frames, as bake keys them and a preview shows them: decoded and interpolated here, so
+// the tracks never cross into Python.
+py::tuple world_poses(PyLibrary& l, uint64_t w, const std::vector<double>& at_frames,
+                      const std::optional<std::vector<int64_t>>& bodies) {
+    for (double f : at_frames)
+        if (!std::isfinite(f)) throw py::value_error("frames must be finite");
+    const PyLibrary::DecodedWorld& world = l.decoded_world(w);
+    if (world.frames == 0) throw py::value_error("world " + std::to_string(w) + " has no frames");
+    std::vector<size_t> rows;
+    if (bodies) {
+        for (int64_t b : *bodies) {
+            if (b < 0 || static_cast<size_t>(b) >= world.rows)
+                throw py::index_error("body " + std::to_string(b) + " is not in the library's scene (" +
+                                      std::to_string(world.rows) + " bodies)");
+            rows.push_back(static_cast<size_t>(b));
+        }
+    } else {
+        for (size_t b = 0; b < world.rows; ++b) rows.push_back(b);
+    }
+    const auto n = static_cast<py::ssize_t>(at_frames.size()), count = static_cast<py::ssize_t>(rows.size());
+    py::array_t<double> loc({count, n, py::ssize_t{3}}), rot({count, n, py::ssize_t{4}});
+    double* out_loc = loc.mutable_data();
+    double* out_rot = rot.mutable_data();
+    {
+        py::gil_scoped_release release;
+        for (size_t k = 0; k < rows.size(); ++k)
+            sample_recorded_poses(world.positions.data() + rows[k] * world.frames * 3,
+                                  world.orientations.data() + rows[k] * world.frames * 4, 1, world.frames, at_frames,
+                                  out_loc + k * at_frames.size() * 3, out_rot + k * at_frames.size() * 4);
+    }
+    return py::make_tuple(loc, rot);
 }
 
 // float32 (worlds, bodies, points, 3) of the chosen bodies' polylines, copied without the GIL.
@@ -239,6 +276,11 @@ void bind_library(py::module_& m) {
         .def("orientations",
              [](const PyLibrary& l, uint64_t w) { return decoded(l, w, decode_world_orientations, 4); },
              py::arg("world"), "float64 (bodies, frames, 4): decoded unit quaternions (w, x, y, z); NaN for absent bodies")
+        .def("poses", &world_poses, py::arg("world"), py::arg("frames"), py::arg("bodies") = py::none(),
+             "Poses of `bodies` (scene body indices; None: all) at fractional recorded frames (clamped to the\n"
+             "world's), as bake keys them and a preview shows them: (loc float64 (bodies, n, 3), rot float64\n"
+             "(bodies, n, 4)), quaternions sign-continuous; NaN for bodies the world lacks. The last world\n"
+             "asked stays decoded for the next call.")
         .def("pose",
              [](const PyLibrary& l, uint64_t w, size_t body, uint32_t frame) {
                  const Transform t = decode_pose(l.world(w), body, frame);

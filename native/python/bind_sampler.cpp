@@ -10,7 +10,6 @@
 #include "sampler/Sampler.h"
 #include "scene/SceneJson.h"
 #include "sim/OdeRandom.h"
-#include "sim/PoseInterpolation.h"
 #include "sim/WorldSimulator.h"
 
 namespace py = pybind11;
@@ -175,30 +174,6 @@ void bind_sampler(py::module_& m) {
         "Refine a stored world in this process (GIL released): append `count` children of `world` that re-simulate\n"
         "`bodies` from branch_time_s (snapped down to a recorded frame) to the library file. Returns a\n"
         "RefineResult. Raises RefineError when the request does not fit the library.");
-
-    m.def(
-        "sample_tracks",
-        [](const py::array_t<double, py::array::c_style | py::array::forcecast>& positions,
-           const py::array_t<double, py::array::c_style | py::array::forcecast>& orientations,
-           const std::vector<double>& world_frames) {
-            if (positions.ndim() != 3 || positions.shape(2) != 3)
-                throw py::value_error("positions: expected (bodies, frames, 3)");
-            if (orientations.ndim() != 3 || orientations.shape(2) != 4 || orientations.shape(0) != positions.shape(0) ||
-                orientations.shape(1) != positions.shape(1))
-                throw py::value_error("orientations: expected (bodies, frames, 4) matching positions");
-            if (positions.shape(1) == 0) throw py::value_error("the tracks have no frames");
-            for (double f : world_frames)
-                if (!std::isfinite(f)) throw py::value_error("world_frames must be finite");
-            const py::ssize_t bodies = positions.shape(0), n = static_cast<py::ssize_t>(world_frames.size());
-            py::array_t<double> loc({bodies, n, py::ssize_t{3}}), rot({bodies, n, py::ssize_t{4}});
-            sample_recorded_poses(positions.data(), orientations.data(), static_cast<size_t>(bodies),
-                                  static_cast<size_t>(positions.shape(1)), world_frames, loc.mutable_data(),
-                                  rot.mutable_data());
-            return py::make_tuple(loc, rot);
-        },
-        py::arg("positions"), py::arg("orientations"), py::arg("world_frames"),
-        "Poses at fractional recorded frames (clamped to the range), as bake and preview show them:\n"
-        "(loc float64 (bodies, n, 3), rot float64 (bodies, n, 4)), quaternions sign-continuous.");
 
     m.def("ode_random_calls_on_this_thread", &ode_random_calls_on_this_thread,
           "dRandInt calls on this thread that reached the engine's per-world generator.");

@@ -18,7 +18,7 @@ from test_queries import PROJECTION, SIZE, VIEW, add_box, matching_worlds, to_sc
 from test_refining import pump, select_only
 
 from many_worlds import compat, scene_boxes
-from many_worlds.core import arrays, paths
+from many_worlds.core import path_budget, paths
 from many_worlds.core import family as core_family
 from many_worlds.core.session import SESSION
 from many_worlds.draw import paths as path_overlay
@@ -51,6 +51,17 @@ def body(name):
 
 def final_position(world, name):
     return SESSION.view.library.positions(world)[body(name), -1]
+
+
+def drawn_as_selected(world):
+    """(the bodies whose paths are drawn, their line-list vertices) of `world` selected, as the
+    viewport's paths overlay prepares them."""
+    bpy.ops.mwb.select_world(world=world)
+    overlay = path_overlay.OVERLAY
+    overlay.update(bpy.context)
+    selected, bodies, _ = overlay.arrays.drawn[0]
+    assert selected == world
+    return bodies, overlay.arrays.selected
 
 
 def run_operator(operator, world, count=3):
@@ -133,9 +144,10 @@ def test_an_added_ball_exists_in_the_children_and_only_what_it_touches_changes(d
     lq = scene_boxes.library_query()
     lq.sync()
     assert lq.index.world_count == len(view.world_indices)
-    segments = path_overlay.OVERLAY.world_segments(view, children[0], (ball,))
-    assert len(segments) and np.isfinite(segments).all()
-    assert len(path_overlay.OVERLAY.world_segments(view, parent, (ball,))) == 0
+    # Selected, a child is drawn with the ball's path, the parent without it.
+    bodies, segments = drawn_as_selected(children[0])
+    assert ball in bodies and len(segments) and np.isfinite(segments).all()
+    assert ball not in drawn_as_selected(parent)[0]
 
 
 def test_previewing_a_world_without_the_ball_leaves_it_where_it_is_drawn_as_wire(domino_scene):
@@ -152,7 +164,7 @@ def test_previewing_a_world_without_the_ball_leaves_it_where_it_is_drawn_as_wire
     assert ball.select_get()
     bpy.ops.mwb.select_world(world=child)
     assert ball.display_type == "TEXTURED"
-    positions, _, hz = SESSION.view.decoded(child)
+    positions, hz = SESSION.view.library.positions(child), SESSION.view.record_hz(child)
     frame = round((30 - 1) / 24 * hz)
     assert np.allclose(ball.matrix_world.translation, positions[body("Ball"), frame], atol=2e-3)
     bpy.ops.mwb.select_world(world=parent)
@@ -291,9 +303,10 @@ def test_removing_the_lower_box_drops_the_upper_one_and_the_lower_is_gone(stack_
     check_upper_fell(parents, children)
     lower, upper = body("Lower"), body("Upper")
     assert core_family.relation_text(view.lineages()[children[0]], view.body_names).endswith(": -Lower")
-    # Not drawn: the child's segments are the upper box's path alone.
-    segments = path_overlay.OVERLAY.world_segments(view, children[0], (lower, upper))
-    expected = arrays.polyline_segments(view.library.polyline(children[0]), [upper])
+    # Not drawn: selected, the child shows the upper box's path alone.
+    bodies, segments = drawn_as_selected(children[0])
+    assert lower not in bodies and upper in bodies
+    expected = path_budget.line_segments(view.library.polyline(children[0]), bodies, 1)
     assert np.isfinite(segments).all() and np.array_equal(segments, expected)
     # The world list sums only bodies the world has.
     summary = view.world_summary(children[0])

@@ -516,3 +516,33 @@ def test_worlds_that_start_alike_share_their_prefix_and_store_the_same_bytes(nat
     library = native.Library(str(tmp_path / "workers.mwb"))
     ends = {tuple(np.round(library.polyline(w)[:, -1].ravel(), 6)) for w in range(5)}
     assert len(ends) == 5, "the perturbed impacts still end every world elsewhere"
+
+
+def test_poses_between_recorded_frames_are_what_bake_and_preview_show(native, engine, tmp_path):
+    # The module decodes and interpolates a world's tracks itself (sim/PoseInterpolation.h):
+    # at recorded frames the poses are the decoded ones, between them on the way from one to the
+    # next, past the end held, and the quaternions never flip sign from one frame to the next.
+    out = tmp_path / "poses.mwb"
+    assert run_engine(engine, "sample", "--scene", QUICKSTART, "--out", str(out), "--worlds", "0:2").returncode == 0
+    library = native.Library(str(out))
+    world = int(library.world_indices[1])
+    positions, orientations = library.positions(world), library.orientations(world)
+    frames = positions.shape[1]
+    loc, rot = library.poses(world, [0.0, 10.0, frames - 1.0, frames + 50.0])
+    assert loc.shape == (positions.shape[0], 4, 3) and rot.shape == (positions.shape[0], 4, 4)
+    np.testing.assert_array_equal(loc[:, :3], positions[:, [0, 10, frames - 1]])
+    np.testing.assert_array_equal(loc[:, 3], positions[:, frames - 1])
+    # At recorded frames, the decoded rotations (a quaternion or its negative: the same rotation).
+    dots = np.sum(rot[:, :3] * orientations[:, [0, 10, frames - 1]], axis=-1)
+    np.testing.assert_allclose(np.abs(dots), 1, atol=1e-12)
+    half, _ = library.poses(world, [10.5])
+    np.testing.assert_allclose(half[:, 0], (positions[:, 10] + positions[:, 11]) / 2, atol=1e-12)
+    # Chosen bodies, in the order asked; a body outside the scene is refused.
+    picked, _ = library.poses(world, [10.0], bodies=[2, 0])
+    np.testing.assert_array_equal(picked[:, 0], positions[[2, 0], 10])
+    with pytest.raises(IndexError, match="not in the library's scene"):
+        library.poses(world, [1.0], bodies=[positions.shape[0]])
+    with pytest.raises(ValueError, match="finite"):
+        library.poses(world, [float("nan")])
+    _, every = library.poses(world, np.arange(frames, dtype=float).tolist())
+    assert (np.sum(every[:, 1:] * every[:, :-1], axis=-1) > 0).all()

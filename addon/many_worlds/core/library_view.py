@@ -28,7 +28,6 @@ class LibraryView:
         self.matching = np.zeros(0, dtype=bool)
         self.version = 0
         self.scene_revision = 0
-        self._decoded = {}
         self._lineages = {}
         self._present = {}
         self._read_scene()
@@ -65,7 +64,6 @@ class LibraryView:
         self.library.poll()
         if self.library.body_count != len(self.body_names):
             self._read_scene()
-            self._decoded.clear()
             self.version += 1
         return self._add_worlds()
 
@@ -131,12 +129,6 @@ class LibraryView:
                 "collisions": int(total("collision_count")),
                 "travel_m": total("path_length_m")}
 
-    def decoded(self, world):
-        """(positions (bodies, frames, 3), orientations (bodies, frames, 4), record_hz), cached for one
-        world; rows of bodies absent from the world are NaN."""
-        if world not in self._decoded:
-            self._decoded.clear()
-            info = self.library.world_info(world)
-            self._decoded[world] = (self.library.positions(world), self.library.orientations(world),
-                                    float(info.record_hz))
-        return self._decoded[world]
+    def record_hz(self, world):
+        """The rate the world's frames were recorded at (frames per second)."""
+        return float(self.library.world_info(world).record_hz)

@@ -1,19 +1,21 @@
 #pragma once
-// A goal file: the boxes a search must meet, as the add-on and command line write them.
+// A goal file: the parts (boxes and poses) a search must meet, as the add-on and command line
+// write them.
 //
 //   {"boxes": [{"view": [16 numbers, row-major world to camera],
 //               "projection": [16 numbers, row-major camera to clip, OpenGL],
 //               "viewport": [width, height], "rect": [x0, y0, x1, y1] (pixels from the bottom-left),
 //               "bodies": [scene body indices] or "objects": ["Name", ...],
 //               "negative": false, "swept": false, "time_window": [t0, t1] or null,
-//               "after": null or the index in "boxes" of the box this one must be met after}],
+//               "after": null or the position of the part this one must be met after}],
 //    "orientations": [{"objects": [...] or "bodies": [...], "within_deg": 20,
 //               "axis": [0, 0, 1] (the body's own, default up), "target": [0, 0, 1] (the world's),
 //               "negative": false, "longer_than_s": 0, "time_window": [t0, t1] or null,
-//               "after": null or the index in "boxes" of a box}]}   (optional)
+//               "after": null or the position of a part}]}   (optional)
 // A positive orientation part holds when every named body's axis stays within within_deg of the
 // target over the window; a negative one when none stays within for longer than longer_than_s.
-// The parts follow the boxes in the goal: part k of "orientations" is goal part len(boxes) + k.
+// Positions count the boxes first, then the orientation parts: part k of "orientations" is goal
+// part len(boxes) + k, and a part may follow a box or another orientation part.
 #include <stdexcept>
 #include <string>
 #include <vector>
