@@ -346,7 +346,7 @@ def goal_specs(args, view):
 
 
 def evaluate_goal(args, view):
-    """(LibraryQuery over every world, QueryResult of the --box and --pose groups, or None
+    """(LibraryQuery over every world, Matches of the --box and --pose groups, or None
     without any). Like the add-on, a part never sees bodies a world lacks."""
     specs = goal_specs(args, view)
     lq = LibraryQuery(_native, view)

@@ -11,7 +11,7 @@ import traceback
 import bpy
 import numpy as np
 
-from . import export, pose_parts
+from . import export, pose_parts, props
 from .core import library_query as core_query
 from .core import pose_target
 from .core.session import SESSION
@@ -198,7 +198,8 @@ def boxes_body_names(scene):
 # --- boxes -------------------------------------------------------------------------------------------
 
 def _time_window(part):
-    return (part.time_start_s, max(part.time_start_s, part.time_end_s)) if part.use_time_window else None
+    # As the animator set it: a window that ends before it starts is the module's to refuse.
+    return (part.time_start_s, part.time_end_s) if part.use_time_window else None
 
 
 def spec_of(box, view):
@@ -297,13 +298,20 @@ def store_pose(scene, body_names, mode=pose_target.UPRIGHT, negative=False):
     return part
 
 
-def enabled_specs(scene, view):
-    """BoxSpecs and PoseSpecs of the enabled parts that test bodies of the library, in list order;
-    each one's `after` counts among them (a part met after a part left out has no order)."""
+def enabled_parts(scene, view):
+    """[(name, spec)]: the BoxSpecs and PoseSpecs of the enabled parts that test bodies of the
+    library, in list order, each with the name the list gives it ("Box 3"); each one's `after`
+    counts among them (a part met after a part left out has no order)."""
     boxes = scene.mwb.boxes
     specs = [spec_of(box, view) if box.enabled else None for box in boxes]
     afters = core_query.order_among([box.after_box for box in boxes], [spec is not None for spec in specs])
-    return [dataclasses.replace(spec, after=after) for spec, after in zip([s for s in specs if s], afters)]
+    kept = [(props.part_name(box, k), spec) for k, (box, spec) in enumerate(zip(boxes, specs)) if spec is not None]
+    return [(name, dataclasses.replace(spec, after=after)) for (name, spec), after in zip(kept, afters)]
+
+
+def enabled_specs(scene, view):
+    """The specs of enabled_parts, without their names."""
+    return [spec for _, spec in enabled_parts(scene, view)]
 
 
 def remove_box(scene, index):
@@ -317,18 +325,25 @@ def remove_box(scene, index):
 
 
 def refresh(scene, extra=None):
-    """Evaluate the scene's enabled boxes (plus `extra`, a box being dragged) on the open library.
+    """Evaluate the scene's enabled boxes and poses (plus `extra`, a box being dragged) on the open
+    library.
 
-    Updates the view's match flags (drawing rebuilds from them) and returns the QueryResult, or
-    None without a library.
+    Updates the view's match flags (drawing rebuilds from them) and returns the Matches, or None
+    without a library. A part the module refuses as set (a time window that ends before it starts)
+    is named in SESSION.goal_problem, and until it is mended no part filters the worlds.
     """
     lq = library_query()
+    SESSION.goal_problem = ""
     if lq is None:
         return None
-    specs = enabled_specs(scene, lq.view)
+    parts = enabled_parts(scene, lq.view)
     if extra is not None:
-        specs.append(extra)
-    result = lq.evaluate(specs) if specs else lq.clear()
+        parts.append(("The box being drawn", extra))
+    try:
+        result = lq.evaluate([spec for _, spec in parts], [name for name, _ in parts]) if parts else lq.clear()
+    except ValueError as error:
+        SESSION.goal_problem = str(error)
+        result = lq.clear()
     follow_index_fill(lq)
     _tag_redraw()
     return result

@@ -15,7 +15,7 @@ import gpu
 import numpy as np
 
 from . import posing
-from .core import contact_sheet
+from .core.screen_pixels import world_to_pixels
 from .core.session import SESSION
 
 IMAGE_WIDTH = 160      # pixels; the height follows the render's aspect
@@ -60,8 +60,7 @@ def focus_square(points, view_matrix, projection, size):
     sees, with a margin, or None when it sees none. A row's icon is this square, so the objects,
     which are what differs between worlds, fill the few pixels it has."""
     width, height = size
-    pixels, visible = contact_sheet.project(np.asarray(points, dtype=float), view_matrix, projection, size)
-    x, y = pixels[:, 0], height - pixels[:, 1]
+    x, y, visible = world_to_pixels(points, np.asarray(projection) @ np.asarray(view_matrix), size)
     inside = visible & (x >= 0) & (x < width) & (y >= 0) & (y < height)
     if not inside.any():
         return None

@@ -30,6 +30,11 @@ def select_only(objects):
         ob.select_set(ob in objects)
 
 
+def full_paths(view, world, bodies):
+    """Line-list vertices of the full paths of those of `bodies` that `world` has."""
+    return path_budget.line_segments(view.library.polyline(world), view.present_bodies(world, bodies), 1)
+
+
 def drawn_bodies(arrays, world):
     """The body tuples drawn of `world`."""
     return {bodies for w, bodies, _ in arrays.drawn if w == world}
@@ -52,8 +57,8 @@ def test_a_small_budget_keeps_the_selected_world_and_the_matched_worlds_selected
     settings.selected_world = selected
     select_only([sampled[1]])
     box1 = view.body_names.index(sampled[1].name)
-    selected_size = len(overlay.world_segments(view, selected, tuple(view.simulated_bodies())))
-    matched_size = sum(len(overlay.world_segments(view, w, (box1,))) for w in matched)
+    selected_size = len(full_paths(view, selected, tuple(view.simulated_bodies())))
+    matched_size = sum(len(full_paths(view, w, (box1,))) for w in matched)
     overlay.vertex_budget = selected_size + matched_size + full.vertex_count // 10
     assert overlay.vertex_budget < full.vertex_count
     assert overlay.update(bpy.context)
@@ -61,7 +66,7 @@ def test_a_small_budget_keeps_the_selected_world_and_the_matched_worlds_selected
     assert arrays.vertex_count <= overlay.vertex_budget
     assert len(arrays.others) == len(arrays.other_colours) and arrays.other_colours.shape[1] == 4
     # The selected world in full, though rejected.
-    full_selected = overlay.world_segments(view, selected, tuple(view.simulated_bodies()))
+    full_selected = full_paths(view, selected, tuple(view.simulated_bodies()))
     assert np.array_equal(arrays.selected, full_selected, equal_nan=True)
     # Every matched world draws the preferred object's path; not every world is drawn.
     for w in matched:

@@ -239,5 +239,4 @@ def test_seek_writes_the_pose_into_its_goal(dice):
     assert written["bodies"] == [body] and written["within_deg"] == 15.0 and written["negative"] is False
     assert written["axis"] == [0.0, 0.0, 1.0] and written["target"] == [0.0, 0.0, 1.0]
     assert document["boxes"] == []
-    assert goal.read_goal(paths.goal_json_path(SESSION.view.path)) == scene_boxes.enabled_specs(
-        bpy.context.scene, SESSION.view)
+    assert document == goal.goal_document(scene_boxes.enabled_specs(bpy.context.scene, SESSION.view))

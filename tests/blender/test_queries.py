@@ -11,6 +11,7 @@ from camera_math import look_at, perspective
 from conftest import drop_scene, sample_and_wait, save_blend
 
 from many_worlds import _native, scene_boxes
+from many_worlds.operators import seeking
 from many_worlds.core.session import SESSION
 
 SIZE = (1600, 1000)
@@ -107,6 +108,33 @@ def test_time_windowed_box_matches_the_direct_query(sampled):
     assert early < everywhere
     box.time_start_s, box.time_end_s = 0.3, 10.0
     assert matching_worlds() == direct_matches([(rect, False, ["Box0", "Box1"], (0.3, 10.0))])[0]
+
+
+def test_a_window_that_ends_before_it_starts_is_named_not_mended(sampled):
+    worlds = sorted(sampled.world_indices)
+    scene = bpy.context.scene
+    first = add_box(end_rect(worlds[2], half_px=60))
+    first.enabled = False
+    box = add_box(end_rect(worlds[3], half_px=60))
+    box.use_time_window, box.time_start_s, box.time_end_s = True, 2.0, 3.0
+    assert SESSION.goal_problem == ""
+    box.time_end_s = 1.0
+    # Passed on as set; the module's refusal names the box as the list does, and the panel and
+    # Seek say it. Meanwhile no part filters the worlds.
+    assert scene_boxes.spec_of(box, sampled).time_window == (2.0, 1.0)
+    assert SESSION.goal_problem == "Box 2 has a time window (time_window) that ends before it starts"
+    assert seeking.seek_problem(scene) == SESSION.goal_problem
+    assert matching_worlds() == set(worlds)
+    box.time_end_s = 2.5
+    assert SESSION.goal_problem == "" and seeking.seek_problem(scene) == ""
+    rect = tuple(box.rect)
+    assert matching_worlds() == direct_matches([(rect, False, ["Box0", "Box1"], (2.0, 2.5))])[0]
+    # A pose part's window alike.
+    pose = scene_boxes.store_pose(scene, ["Box0"])
+    pose.time_start_s = pose.time_end_s + 1.0
+    assert SESSION.goal_problem == "Pose 3 has a time window (time_window) that ends before it starts"
+    pose.use_time_window = False
+    assert SESSION.goal_problem == ""
 
 
 def test_positive_and_negative_boxes_combine_by_and(sampled):

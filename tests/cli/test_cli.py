@@ -235,6 +235,20 @@ def test_user_mistakes_are_one_line_and_exit_2(library, args, phrase):
     assert "Traceback" not in result.stderr
 
 
+def test_an_engine_of_another_protocol_version_is_refused_in_one_line(library, tmp_path):
+    from many_worlds import _native
+    ours = _native.engine_protocol.VERSION
+    fake = tmp_path / "mwb-engine"
+    start = {"event": "start", "protocol": ours + 1, "command": "info", "engine_build": "fake"}
+    fake.write_text(f"#!{sys.executable}\nprint({json.dumps(start)!r}, flush=True)\n")
+    fake.chmod(0o755)
+    result = cli("info", str(library), check=False, env={"MWB_ENGINE": str(fake)})
+    assert result.returncode == 2, result.stdout[-500:] + result.stderr[-500:]
+    errors = [line for line in result.stderr.splitlines() if line.startswith("many_worlds: error:")]
+    assert errors == [f"many_worlds: error: the engine {fake} speaks protocol version {ours + 1}, this add-on "
+                      f"protocol version {ours}: use the engine that came with the add-on"], result.stderr[-800:]
+
+
 def test_library_of_another_scene_is_refused(library, tmp_path):
     empty = tmp_path / "empty.blend"
     subprocess.run(["blender", "-b", "--factory-startup", "--python-expr",
@@ -338,7 +352,7 @@ def test_seek_grows_the_library_until_a_world_meets_the_goal(library, tmp_path):
     outcome = json.loads(output_lines(result)[-1])
     assert set(outcome) >= {"reached", "found", "best", "best_boxes_met", "boxes", "worlds_made", "seconds"}
     progress = [line for line in result.stderr.splitlines() if line.startswith("many_worlds: best ")]
-    assert progress and all(" of 3 boxes" in line for line in progress), result.stderr[-800:]
+    assert progress and all(" of 3 parts" in line for line in progress), result.stderr[-800:]
     worlds = sorted(int(w) for w in _native.Library(str(grown)).world_indices)
     assert len(worlds) == 12 + outcome["worlds_made"] and worlds[:12] == list(range(12))
     # What the engine reports is what a query of the grown library finds.

@@ -1,18 +1,10 @@
-"""The add-on's Blender-free helpers (many_worlds.core), in plain Python: array shaping for drawing
-and baking, engine requests, paths, lineage."""
+"""The add-on's Blender-free helpers (many_worlds.core), in plain Python: array shaping for baking,
+engine requests, paths, lineage."""
 from types import SimpleNamespace
 
 import numpy as np
 
 from many_worlds.core import arrays, engine, export_warnings, family, library_query, paths
-
-
-def test_polyline_segments_join_consecutive_points_of_the_chosen_bodies():
-    polyline = np.arange(2 * 3 * 3, dtype=np.float32).reshape(2, 3, 3)
-    segments = arrays.polyline_segments(polyline, [1])
-    assert segments.dtype == np.float32 and segments.shape == (4, 3)
-    assert np.array_equal(segments, polyline[1][[0, 1, 1, 2]])
-    assert arrays.polyline_segments(polyline, []).shape == (0, 3)
 
 
 def test_bake_frames_cover_the_world_and_map_to_recorded_frames():
@@ -22,21 +14,6 @@ def test_bake_frames_cover_the_world_and_map_to_recorded_frames():
     assert np.allclose(arrays.world_frame_of_scene_frame(frames, 10, 24.0, 120.0), 5 * np.arange(25))
     # 25 fps does not divide 120 Hz: fractional recorded frames, interpolated.
     assert np.allclose(arrays.world_frame_of_scene_frame([11], 10, 25.0, 120.0), [4.8])
-
-
-def test_sampled_quaternions_stay_on_one_hemisphere_and_interpolate():
-    # Bake and preview pose through the module's interpolation (sim/PoseInterpolation.h).
-    from many_worlds import _native
-    q = np.array([[[1, 0, 0, 0], [-1, 0, 0, 0], [-0.8, -0.6, 0, 0]]], dtype=np.float64)
-    positions = np.array([[[0, 0, 0], [1, 0, 0], [2, 0, 0]]], dtype=np.float64)
-    loc, rot = _native.sample_tracks(positions, q, [0, 1, 2])
-    # Keys that alternate sign would make F-curves swing the long way: they come out continuous.
-    assert np.allclose(rot[0], [[1, 0, 0, 0], [1, 0, 0, 0], [0.8, 0.6, 0, 0]])
-    loc, rot = _native.sample_tracks(positions, q, [0.5, 5.0, -1.0])
-    assert np.allclose(loc[0], [[0.5, 0, 0], [2, 0, 0], [0, 0, 0]])
-    assert np.allclose(np.linalg.norm(rot, axis=-1), 1)
-    half = _native.sample_tracks(positions, q, [1.5])[1][0, 0]
-    assert np.allclose(half, np.array([1.8, 0.6, 0, 0]) / np.linalg.norm([1.8, 0.6, 0, 0]))
 
 
 def test_a_sample_request_passes_every_run_setting():

@@ -5,6 +5,7 @@ import json
 import os
 import signal
 import subprocess
+import sys
 import time
 
 import pytest
@@ -34,6 +35,30 @@ def test_every_event_the_engine_can_write_has_a_reader():
     assert set(engine_process.EngineRun.EVENT_READERS) == set(protocol.EVENTS)
     assert engine_process.OTHER_RUN in protocol.ERROR_CODES
     assert protocol.VERSION >= 1
+
+
+def fake_engine(folder, protocol):
+    """An executable that answers any command as an engine of `protocol` would start to."""
+    path = folder / "mwb-engine"
+    start = {"event": "start", "protocol": protocol, "command": "info", "engine_build": "fake"}
+    summary = {"event": "summary", "text": "a library of 3 worlds"}
+    path.write_text(f"#!{sys.executable}\nprint({json.dumps(start)!r}, flush=True)\nprint({json.dumps(summary)!r})\n")
+    path.chmod(0o755)
+    return str(path)
+
+
+def test_an_engine_of_another_protocol_version_is_refused_in_one_line(tmp_path):
+    ours = engine_process.PROTOCOL.VERSION
+    fake = fake_engine(tmp_path, ours + 1)
+    refused = run(fake, engine_process.InfoRequest(str(tmp_path / "any.mwb")))
+    failure = refused.failure()
+    assert failure.code == engine_process.OTHER_PROTOCOL
+    assert failure.message == (f"the engine {fake} speaks protocol version {ours + 1}, this add-on protocol "
+                               f"version {ours}: use the engine that came with the add-on")
+    # Nothing else it said is read.
+    assert refused.summary() is None
+    accepted = run(fake_engine(tmp_path, ours), engine_process.InfoRequest(str(tmp_path / "any.mwb")))
+    assert accepted.failure() is None and accepted.summary()["text"] == "a library of 3 worlds"
 
 
 def test_every_line_on_stdout_is_an_event_of_the_protocol(engine, tmp_path):

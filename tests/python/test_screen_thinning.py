@@ -1,4 +1,5 @@
-"""Thinning paths in screen space (many_worlds.core.screen_thinning) and the drawing budget with it."""
+"""World points to pixels (many_worlds.core.screen_pixels), thinning paths in screen space
+(many_worlds.core.screen_thinning) and the drawing budget with it."""
 import os
 import sys
 
@@ -8,9 +9,26 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(
 
 from camera_math import look_at, perspective  # noqa: E402
 from many_worlds.core import path_budget, screen_thinning  # noqa: E402
+from many_worlds.core.screen_pixels import world_to_pixels  # noqa: E402
 
 VIEW = screen_thinning.ScreenView(tuple(map(tuple, perspective(0.8, 1.6, 0.1, 100) @ look_at([6, -6, 4], [0, 0, 1]))),
                                   1600, 1000)
+
+
+def test_pixels_count_rows_up_from_the_bottom_or_down_from_the_top():
+    # Looking along +y from the origin: the target at the centre, a point above it in the upper
+    # half, one to its right in the right half, one behind the eye not in front.
+    eye = perspective(0.8, 1.6, 0.1, 100) @ look_at([0, 0, 0], [0, 5, 0])
+    points = np.array([[0, 5, 0], [0, 5, 1], [1, 5, 0], [0, -5, 0]], np.float64)
+    x, up, in_front = world_to_pixels(points, eye, (1600, 1000))
+    _, down, _ = world_to_pixels(points, eye, (1600, 1000), y_down=True)
+    assert np.allclose([x[0], up[0], down[0]], [800, 500, 500])
+    assert up[1] > 500 > down[1] and np.isclose(up[1] + down[1], 1000)
+    assert x[2] > 800 and list(in_front) == [True, True, True, False]
+    # The viewport's thinning sees the same pixels, in float32.
+    view = screen_thinning.ScreenView(tuple(map(tuple, eye)), 1600, 1000)
+    thin_x, thin_y, _ = screen_thinning.pixels(points.astype(np.float32), view)
+    assert thin_x.dtype == np.float32 and np.allclose(thin_x, x) and np.allclose(thin_y, up)
 
 
 def paths(count=50, points=301, seed=1):
@@ -29,7 +47,8 @@ def paths(count=50, points=301, seed=1):
 def test_thinning_keeps_ends_and_every_vertex_a_pixel_from_the_last_kept():
     lines = paths()
     keep = screen_thinning.kept_on_screen(lines, VIEW)
-    xy, _ = screen_thinning.pixels(np.nan_to_num(lines), VIEW)
+    x, y, _ = screen_thinning.pixels(np.nan_to_num(lines), VIEW)
+    xy = np.stack([x, y], axis=-1)
     finite = np.isfinite(lines[..., 0])
     assert not keep[~finite].any(), "NaN points are never kept"
     assert keep.sum() < 0.5 * finite.sum(), "paths at rest thin to a few points"

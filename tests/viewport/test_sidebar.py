@@ -6,7 +6,8 @@ at its default width on the Many Worlds tab and the Physics properties show the 
 The scene gets a camera, so the ranking's rows show thumbnails and the previewed world its filmstrip.
 For each state a new user meets (library just opened with a passive object selected; its path
 index still filling; boxes drawn and a world previewed; an object moved during the preview; the collapsed subpanels opened and the
-variation ranges as min/max; a click with Draw Box and the Rigid Body World removed, so that the Boxes panel says why no box came of the click and Sample why it is greyed out), every panel of the add-on is drawn through a recording layout
+variation ranges as min/max; a click with Draw Box and the Rigid Body World removed, so that the Boxes panel says why no box came of the click and Sample why it is greyed out, with
+a box's time window ending before it starts, which the Boxes and Seek panels name), every panel of the add-on is drawn through a recording layout
 (tests/viewport/label_fit.py) and every label, field and button text is measured against the
 width the panel gives it. The test fails on any text that does not fit, names it, and keeps a
 full-window screenshot of each state in the output folder. It also checks the panel order, that
@@ -311,6 +312,8 @@ def steps():
     scene.mwb.box_index = 0
     with bpy.context.temp_override(window=window, area=area, region=region, scene=scene):
         bpy.ops.rigidbody.world_remove()
+    # Box 2's time window set to end before it starts: passed on as set, the panel names the box.
+    scene.mwb.boxes[1].time_start_s, scene.mwb.boxes[1].time_end_s = 2.0, 1.0
     yield
     yield from scroll(window, area, "UI", down=False)
     redraw_all()
@@ -322,6 +325,8 @@ def steps():
     assert "The box was too small (0×0 px)" in boxes_text, boxes_text
     # Box 1 has no time window: the panel says what that means.
     assert "a path that only passes through counts too" in boxes_text, boxes_text
+    refused = "Box 2 has a time window (time_window) that ends before it starts"
+    assert refused in boxes_text and refused in " ".join(texts("Seek")), boxes_text
 
     scale = bpy.context.preferences.view.ui_scale
     report = {"blender": bpy.app.version_string, "ui_scale": scale, "sidebar_width": sidebar.width,

@@ -2,21 +2,6 @@
 import numpy as np
 
 
-def polyline_segments(polyline, bodies):
-    """Line-list vertices of the given bodies' paths.
-
-    polyline: float32 (bodies, points, 3). bodies: indices to draw.
-    Returns float32 (segments * 2, 3), consecutive pairs are one segment (the 'LINES' primitive
-    draws many disjoint paths in one batch).
-    """
-    if len(bodies) == 0 or polyline.shape[1] < 2:
-        return np.zeros((0, 3), np.float32)
-    paths = polyline[np.asarray(bodies, dtype=np.intp)]
-    starts = paths[:, :-1, :]
-    ends = paths[:, 1:, :]
-    return np.stack([starts, ends], axis=2).reshape(-1, 3).astype(np.float32, copy=False)
-
-
 def world_frame_of_scene_frame(scene_frame, frame_start, fps, record_hz):
     """Fractional recorded frame of a (sub)frame of the Blender scene; world time 0 is frame_start."""
     return (np.asarray(scene_frame, dtype=np.float64) - frame_start) / fps * record_hz

@@ -9,6 +9,8 @@ import zlib
 
 import numpy as np
 
+from .screen_pixels import world_to_pixels
+
 BACKGROUND = (24, 24, 28)
 LABEL = (235, 235, 235)
 LABEL_BACKING = (0, 0, 0)
@@ -25,18 +27,6 @@ GLYPHS = {"0": "111101101101111", "1": "010110010010111", "2": "111001111100111"
           "Y": "101101010010010", "Z": "111001010100111", ".": "000000000000010", "-": "000000111000000",
           "_": "000000000000111", "#": "101111101111101", ":": "000010000010000", " ": "000000000000000"}
 LEGEND_SCALE = 2
-
-
-def project(points, view, projection, size):
-    """World points (n, 3) -> pixel coordinates (n, 2) (origin top-left) and a visible mask."""
-    homogeneous = np.c_[points, np.ones(len(points))]
-    clip = homogeneous @ (np.asarray(projection) @ np.asarray(view)).T
-    w = clip[:, 3]
-    visible = w > 1e-9
-    ndc = clip[:, :2] / np.where(visible, w, 1.0)[:, None]
-    x = (ndc[:, 0] + 1) / 2 * size[0]
-    y = (1 - (ndc[:, 1] + 1) / 2) * size[1]
-    return np.c_[x, y], visible
 
 
 def draw_line(tile, a, b, colour):
@@ -115,13 +105,14 @@ def render(tiles, view, projection, view_size, tile_width=320, columns=None, bac
     rows = int(np.ceil(len(tiles) / columns))
     sheet = np.zeros((rows * (tile_height + 2), columns * (tile_width + 2), 3), dtype=np.uint8)
     sheet[:] = 60
-    scale = (tile_width / view_size[0], tile_height / view_size[1])
+    perspective = np.asarray(projection) @ np.asarray(view)
     for k, (world, polylines) in enumerate(tiles):
         tile = np.zeros((tile_height, tile_width, 3), dtype=np.uint8)
         tile[:] = BACKGROUND if backgrounds is None else backgrounds[k]
         for polyline, colour in polylines:
-            pixels, visible = project(np.asarray(polyline, dtype=float), view, projection, view_size)
-            pixels *= scale
+            # Image rows count down from the top.
+            x, y, visible = world_to_pixels(polyline, perspective, (tile_width, tile_height), y_down=True)
+            pixels = np.stack([x, y], axis=-1)
             for i in range(len(pixels) - 1):
                 if visible[i] and visible[i + 1]:
                     draw_line(tile, pixels[i], pixels[i + 1], colour)

@@ -192,11 +192,27 @@ class SeekOutcome:
 
 @dataclass(frozen=True)
 class EngineFailure:
-    """Why a run failed: the error event's code (one of PROTOCOL.ERROR_CODES, or "crashed" when the
-    engine stopped without saying why) and its message in the user's words."""
+    """Why a run failed: the error event's code (one of PROTOCOL.ERROR_CODES; OTHER_PROTOCOL for an
+    engine that speaks another protocol version, refused as it starts; "crashed" when the engine
+    stopped without saying why) and its message in the user's words."""
     code: str
     message: str
     problems: Tuple[str, ...] = ()
+
+
+# The code of an EngineFailure for an engine of another protocol version (the add-on's own).
+OTHER_PROTOCOL = "other_protocol"
+
+
+def other_protocol_failure(engine, event):
+    """The EngineFailure for a start event of another protocol version than PROTOCOL.VERSION, or
+    None when the engine speaks this one."""
+    version = event.get("protocol")
+    if version == PROTOCOL.VERSION:
+        return None
+    theirs = f"protocol version {version}" if version is not None else "no protocol version"
+    return EngineFailure(OTHER_PROTOCOL, f"the engine {engine} speaks {theirs}, this add-on protocol version "
+                                         f"{PROTOCOL.VERSION}: use the engine that came with the add-on")
 
 
 def sorted_reasons(reasons):
@@ -267,7 +283,7 @@ class _RunState:
     total: int = 0
     last_world: int = -1
     seek: Optional[SeekProgress] = None
-    started: Optional[dict] = None
+    refused: Optional[EngineFailure] = None  # an engine of another protocol version
     summary: Optional[dict] = None
     error: Optional[EngineFailure] = None
     warnings: list = field(default_factory=list)
@@ -294,7 +310,10 @@ class EngineRun:
 
     # One reader per event the protocol has; a test holds this table to PROTOCOL.EVENTS.
     def _on_start(self, state, event):
-        state.started = event
+        state.refused = other_protocol_failure(self.argv[0], event)
+        if state.refused is not None:
+            # Its other events may mean other things: none is read, and it stops here.
+            self._process.kill()
 
     def _on_progress(self, state, event):
         state.done, state.total = int(event["done"]), int(event["total"])
@@ -331,7 +350,8 @@ class EngineRun:
                     self._state.log.append(raw.decode("utf-8", "replace").rstrip("\n"))
                 continue
             with self._lock:
-                reader(self, self._state, event)
+                if self._state.refused is None:
+                    reader(self, self._state, event)
 
     def _read_log(self):
         # Whatever the engine or ODE print for people; shown with a failure, never interpreted.
@@ -379,8 +399,11 @@ class EngineRun:
 
     def failure(self):
         """None for a clean run or a cancel (which keeps finished worlds); otherwise an
-        EngineFailure."""
+        EngineFailure (an engine of another protocol version is one, however it exited)."""
         code = self.returncode()
+        with self._lock:
+            if code is not None and self._state.refused is not None:
+                return self._state.refused
         if code is None or code == int(EngineExit.OK) or (code == int(EngineExit.CANCELLED) and self.cancel_requested):
             return None
         with self._lock:

@@ -21,7 +21,7 @@ import json
 import numpy as np
 
 from .. import _native
-from .library_query import BoxSpec, PoseSpec, native_parts
+from .library_query import PoseSpec, native_parts
 
 
 def _checked(specs):
@@ -81,41 +81,3 @@ def write_goal(path, specs):
         json.dump(document, f, indent=1)
         f.write("\n")
     return path
-
-
-def goal_specs(document):
-    """The specs of a goal file's content written by goal_document (bodies, not objects): boxes,
-    then pose parts, as the file orders them."""
-    def window_of(part):
-        window = part.get("time_window")
-        return tuple(window) if window is not None else None
-
-    def after_of(part):
-        after = part.get("after")
-        return -1 if after is None else int(after)
-
-    specs = []
-    for k, box in enumerate(document.get("boxes", [])):
-        if "bodies" not in box:
-            raise ValueError(f"box {k + 1} names objects, not bodies: the library's scene resolves them")
-        specs.append(BoxSpec(view=np.array(box["view"], dtype=np.float64).reshape(4, 4),
-                             projection=np.array(box["projection"], dtype=np.float64).reshape(4, 4),
-                             size=(box["viewport"][0], box["viewport"][1]), rect=tuple(box["rect"]),
-                             negative=bool(box.get("negative", False)), bodies=tuple(box["bodies"]),
-                             time_window=window_of(box), swept=bool(box.get("swept", False)), after=after_of(box)))
-    for k, part in enumerate(document.get("orientations", [])):
-        if "bodies" not in part:
-            raise ValueError(f"pose part {k + 1} names objects, not bodies: the library's scene resolves them")
-        specs.append(PoseSpec(bodies=tuple(part["bodies"]), within_deg=float(part["within_deg"]),
-                              axis=tuple(part.get("axis", (0.0, 0.0, 1.0))),
-                              target=tuple(part.get("target", (0.0, 0.0, 1.0))),
-                              negative=bool(part.get("negative", False)),
-                              longer_than_s=float(part.get("longer_than_s", 0.0)),
-                              time_window=window_of(part), after=after_of(part)))
-    return _checked(specs)
-
-
-def read_goal(path):
-    """The specs of the goal file at `path` (see goal_specs)."""
-    with open(path) as f:
-        return goal_specs(json.load(f))

@@ -134,15 +134,17 @@ def part_noun(spec):
     return "pose part" if isinstance(spec, PoseSpec) else "box"
 
 
-def native_parts(specs, native=None):
-    """The module's QueryBoxes of BoxSpecs and PoseSpecs; ValueError names the part refused by
-    its place in the list ("pose part 2 has a tolerance ...")."""
+def native_parts(specs, native=None, names=None):
+    """The module's QueryBoxes of BoxSpecs and PoseSpecs; ValueError names the part refused, by
+    `names` (what the caller calls each part, e.g. "Box 3") or else by its place in the list
+    ("pose part 2 has a tolerance ...")."""
     parts = []
     for k, spec in enumerate(specs):
         try:
             parts.append(native_box(spec, native))
         except ValueError as error:
-            raise ValueError(f"{part_noun(spec)} {k + 1} {error}") from None
+            name = names[k] if names is not None else f"{part_noun(spec)} {k + 1}"
+            raise ValueError(f"{name} {error}") from None
     return parts
 
 
@@ -185,8 +187,8 @@ def world_label_text(world, rest_s, parts_met=0, part_count=0):
 
 
 @dataclass
-class QueryResult:
-    """Outcome of one evaluation, in the LibraryView's (file) order."""
+class Matches:
+    """Which worlds meet the goal's parts after one evaluation, in the LibraryView's (file) order."""
     matching: np.ndarray          # bool (worlds,)
     boxes_satisfied: np.ndarray   # uint32 (worlds,)
     box_count: int
@@ -324,10 +326,10 @@ class LibraryQuery:
         with."""
         return native_box(spec, self.native)
 
-    def evaluate(self, specs: Sequence[BoxSpec]):
+    def evaluate(self, specs: Sequence[BoxSpec], names=None):
         """Run the boxes and pose parts (AND; an ordered part counts when met after its predecessor)
-        and store the match flags in the view. Returns a QueryResult. Raises ValueError for an
-        ordering cycle.
+        and store the match flags in the view. Returns the Matches. Raises ValueError for a part the
+        module refuses (named by `names`, see native_parts) or an ordering cycle.
 
         Each evaluation posts a new generation first, so a query still running for an older box
         set (from another thread) stops early instead of finishing work nobody will read. While
@@ -335,7 +337,7 @@ class LibraryQuery:
         """
         self.sync()
         file_order = np.asarray(self.view.world_indices, dtype=np.uint64)
-        boxes = native_parts(specs, self.native)
+        boxes = native_parts(specs, self.native, names)
         self._boxes = boxes
         self.generation += 1
         self.index.post_generation(self.generation)
@@ -350,14 +352,14 @@ class LibraryQuery:
             satisfied[known] = satisfied_sorted[where[known]]
         matching = np.isin(file_order, np.asarray(raw.matching, dtype=np.uint64))
         self.view.set_matching(matching)
-        self.result = QueryResult(matching, satisfied, len(boxes), indexed=len(ids))
+        self.result = Matches(matching, satisfied, len(boxes), indexed=len(ids))
         return self.result
 
     def clear(self):
         """No boxes: every world matches."""
         self._boxes = []
         self.view.set_matching(np.ones(len(self.view.world_indices), dtype=bool))
-        self.result = QueryResult(self.view.matching.copy(),
+        self.result = Matches(self.view.matching.copy(),
                                   np.zeros(len(self.view.world_indices), dtype=np.uint32), 0,
                                   indexed=self.indexed_count)
         return self.result

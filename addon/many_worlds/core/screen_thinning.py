@@ -11,6 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .screen_pixels import world_to_pixels
+
 # Vertices closer than this on screen to the last kept one are dropped, pixels.
 TOLERANCE_PX = 1.0
 
@@ -26,20 +28,9 @@ class ScreenView:
 
 
 def pixels(points, view):
-    """(pixel xy (..., 2) float32, in front of the camera (...) bool) of points (..., 3)."""
-    x, y, in_front = _pixel_coordinates(points, view)
-    return np.stack([x, y], axis=-1), in_front
-
-
-def _pixel_coordinates(points, view):
-    """(pixel x, pixel y, in front of the camera) of points (..., 3), each shaped (...)."""
-    m = np.asarray(view.perspective, np.float32)
-    clip_x = points @ m[0, :3] + m[0, 3]
-    clip_y = points @ m[1, :3] + m[1, 3]
-    clip_w = points @ m[3, :3] + m[3, 3]
-    in_front = clip_w > 1e-6
-    w = np.where(in_front, clip_w, np.float32(1))
-    return (clip_x / w + 1) * np.float32(0.5 * view.width), (clip_y / w + 1) * np.float32(0.5 * view.height), in_front
+    """(pixel x, pixel y from the bottom edge, in front of the camera) float32 of points
+    (..., 3) at `view`, each shaped (...)."""
+    return world_to_pixels(points, view.perspective, (view.width, view.height), dtype=np.float32)
 
 
 def kept_on_screen(paths, view):
@@ -49,7 +40,7 @@ def kept_on_screen(paths, view):
     if paths.shape[-2] == 0:
         return finite
     # NaN points project to NaN, which compares unequal to everything: masked by `finite` below.
-    x, y, in_front = _pixel_coordinates(paths, view)
+    x, y, in_front = pixels(paths, view)
     cell = np.float32(view.tolerance_px / np.sqrt(2))
     cell_x, cell_y = np.floor(x / cell), np.floor(y / cell)
     keep = ~in_front

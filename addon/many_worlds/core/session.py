@@ -14,6 +14,7 @@ class Session:
         self.last_error = ""    # engine failure text, shown as a report
         self.run_warnings = []  # what the last run's engine warned of, reported when it ends
         self.box_note = ""      # why the last box drawn was not kept, until the next one is
+        self.goal_problem = ""  # which enabled box or pose the module refuses as set, and why
         self.export_warnings = []    # what the last export could not reproduce, one line per object and setting
 
     @property
@@ -36,6 +37,7 @@ class Session:
         self.view = None
         self.query = None
         self.status = ""
+        self.goal_problem = ""
 
 
 SESSION = Session()

@@ -155,10 +155,6 @@ class PathOverlay(ViewportOverlay):
         colours = palette.body_colours(view.body_names, view.simulated_bodies())
         return path_budget.PathChoice(list(view.world_indices), matching, selected, bodies, preferred, colours)
 
-    def world_segments(self, view, world, bodies):
-        """Line-list vertices of the full paths of `bodies` that exist in `world`."""
-        return path_budget.line_segments(view.library.polyline(world), view.present_bodies(world, bodies), 1)
-
     # --- batches ----------------------------------------------------------------------------------
 
     def _make_batches(self, arrays):

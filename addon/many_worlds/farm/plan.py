@@ -1,4 +1,6 @@
-"""Splitting a world range into farm tasks and the command lines those tasks run."""
+"""Splitting a world range into farm tasks and the command lines those tasks run: the one home of
+the chunks and the shard names, which the Slurm scripts and the Flamenco job take from here."""
+import json
 import os
 
 CLI_SCRIPT = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "cli.py")
@@ -15,6 +17,13 @@ def chunks(first_world, world_count, chunk_size):
 def shard_name(a, b):
     """A shard's file name: a re-run task rewrites the same file (and writes it identically)."""
     return f"shard_{a:08d}_{b:08d}.mwb"
+
+
+def flamenco_shards(first_world, world_count, chunk_size):
+    """The Flamenco job's `shards` setting: JSON text [{"worlds": "A:B", "file": shard name}], one
+    per chunk (the job type, farm/flamenco/many_worlds_sample.js, reads it and computes nothing)."""
+    return json.dumps([{"worlds": f"{a}:{b}", "file": shard_name(a, b)}
+                       for a, b in chunks(first_world, world_count, chunk_size)], separators=(",", ":"))
 
 
 def cli_prefix(blender="blender", blend_file=None, cli_script=CLI_SCRIPT):

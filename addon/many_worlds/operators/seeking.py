@@ -28,7 +28,7 @@ def seek_problem(scene):
         return "Open or sample a library first"
     if not scene_boxes.enabled_specs(scene, SESSION.view):
         return "Draw a box or add a pose first: the goal is every enabled part (over bodies the library has)"
-    return ""
+    return SESSION.goal_problem
 
 
 class SeekFollower:

@@ -116,9 +116,13 @@ class MWB_PT_query(SidebarPanel, bpy.types.Panel):
     def draw(self, context):
         layout = self.layout
         settings = context.scene.mwb
-        text = scene_boxes.match_text()
-        if text:
-            wrapped_labels(layout, context, text, "FILTER")
+        if SESSION.goal_problem:
+            # In place of the match count: no part filters the worlds until the refused one is mended.
+            wrapped_labels(layout, context, SESSION.goal_problem, "ERROR")
+        else:
+            text = scene_boxes.match_text()
+            if text:
+                wrapped_labels(layout, context, text, "FILTER")
         progress = scene_boxes.index_progress_text()
         if progress:
             wrapped_labels(layout, context, progress, "TIME")

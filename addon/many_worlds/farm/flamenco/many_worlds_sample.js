@@ -4,6 +4,14 @@
 // Install: copy this file into the Manager's `scripts/` folder (next to flamenco-manager) and
 // restart the Manager; the job type then appears as "Many-Worlds Sample".
 
+// The submitting Blender computes the shards (the chunks of worlds and their files) with the
+// add-on's own plan, many_worlds.farm.plan, wherever the add-on is installed (a legacy add-on or an
+// extension): this script only reads them.
+const SHARDS_EVAL =
+  "__import__('importlib').import_module(next(name for name in __import__('sys').modules " +
+  "if name.rpartition('.')[2] == 'many_worlds') + '.farm.plan')" +
+  ".flamenco_shards(settings.first_world, settings.world_count, settings.chunk_size)";
+
 const JOB_TYPE = {
   label: "Many-Worlds Sample",
   settings: [
@@ -12,6 +20,8 @@ const JOB_TYPE = {
     { key: "first_world", type: "int32", default: 0, description: "Index of the first world" },
     { key: "chunk_size", type: "int32", default: 100, visible: "submission",
       description: "Worlds per Blender task" },
+    { key: "shards", type: "string", required: true, visible: "hidden", eval: SHARDS_EVAL,
+      description: "The chunks of worlds and their shard files, as JSON [{worlds: 'A:B', file}]" },
     { key: "output_dir", type: "string", subtype: "dir_path", required: true, visible: "submission",
       description: "Shared folder for the shards and the merged library" },
     { key: "cli_script", type: "string", required: true, visible: "submission",
@@ -21,50 +31,47 @@ const JOB_TYPE = {
   ],
 };
 
+// The output folder, as the Workers see it, says which separator they use.
 function joinPath(dir, name) {
-  return dir.endsWith("/") ? dir + name : dir + "/" + name;
-}
-
-function pad8(n) {
-  return String(n).padStart(8, "0");
-}
-
-function shardName(a, b) {
-  return "shard_" + pad8(a) + "_" + pad8(b) + ".mwb";
+  const separator = dir.includes("\\") && !dir.includes("/") ? "\\" : "/";
+  return dir.endsWith(separator) ? dir + name : dir + separator + name;
 }
 
 function cliArgs(settings) {
   return ["--python-exit-code", "1", "--python", settings.cli_script, "--"];
 }
 
+function shardsOf(settings) {
+  const shards = JSON.parse(settings.shards || "[]");
+  if (!Array.isArray(shards) || shards.length === 0) {
+    throw "shards is empty: submit the job from Blender with the Many-Worlds Browser add-on enabled";
+  }
+  return shards;
+}
+
 function compileJob(job) {
   const settings = job.settings;
-  if (settings.world_count < 1 || settings.chunk_size < 1 || settings.first_world < 0) {
-    throw "world_count and chunk_size must be at least 1 and first_world at least 0";
-  }
-  const end = settings.first_world + settings.world_count;
-  const shards = [];
+  const shardFiles = [];
   const sampleTasks = [];
-  for (let a = settings.first_world; a < end; a += settings.chunk_size) {
-    const b = Math.min(a + settings.chunk_size, end);
-    const shard = joinPath(settings.output_dir, shardName(a, b));
-    const task = author.Task("sample " + a + "-" + (b - 1), "blender");
+  for (const shard of shardsOf(settings)) {
+    const file = joinPath(settings.output_dir, shard.file);
+    const task = author.Task("sample " + shard.worlds, "blender");
     task.addCommand(author.Command("blender-render", {
       exe: "{blender}",
       exeArgs: "{blenderArgs}",
       argsBefore: [],
       blendfile: settings.blendfile,
-      args: cliArgs(settings).concat(["sample", "--worlds", a + ":" + b, "--out", shard]),
+      args: cliArgs(settings).concat(["sample", "--worlds", shard.worlds, "--out", file]),
     }));
     job.addTask(task);
     sampleTasks.push(task);
-    shards.push(shard);
+    shardFiles.push(file);
   }
   const merged = joinPath(settings.output_dir, "merged.mwb");
   const mergeTask = author.Task("merge", "blender");
   mergeTask.addCommand(author.Command("exec", {
     exe: "{blender}",
-    args: ["-b", "--factory-startup"].concat(cliArgs(settings), ["merge", "--overwrite", merged], shards),
+    args: ["-b", "--factory-startup"].concat(cliArgs(settings), ["merge", "--overwrite", merged], shardFiles),
   }));
   for (const task of sampleTasks) {
     mergeTask.addDependency(task);
