@@ -11,11 +11,11 @@ import time
 import bpy
 import numpy as np
 import pytest
-from mathutils import Euler, Vector
+from mathutils import Euler, Quaternion, Vector
 
 from conftest import ensure_world, mesh_object, override, sample_and_wait, save_blend
 
-from many_worlds import scene_boxes
+from many_worlds import compat, scene_boxes
 from many_worlds.core import engine as engine_process
 from many_worlds.core import goal, library_query, paths
 from many_worlds.core.session import SESSION
@@ -240,3 +240,38 @@ def test_seek_writes_the_pose_into_its_goal(dice):
     assert written["axis"] == [0.0, 0.0, 1.0] and written["target"] == [0.0, 0.0, 1.0]
     assert document["boxes"] == []
     assert document == goal.goal_document(scene_boxes.enabled_specs(bpy.context.scene, SESSION.view))
+
+
+FACES = {"POS_X": (1, 0, 0), "NEG_X": (-1, 0, 0), "POS_Y": (0, 1, 0), "NEG_Y": (0, -1, 0), "POS_Z": (0, 0, 1),
+         "NEG_Z": (0, 0, -1)}
+
+
+def test_seek_lands_the_die_on_a_face_no_sampled_world_shows_and_bake_keys_it(dice):
+    # "This die lands on that face", made in the sidebar for its rarest face: Seek makes one more
+    # world where it does than sampling found, and Bake keys that world onto the die.
+    die = dice[1]
+    (part,) = add_pose([die], mode="AXIS")
+    part.within_deg = 12.0
+    shown = {}
+    for face in FACES:
+        part.pose_axis = face
+        shown[face] = len(matching_worlds())
+    face = min(FACES, key=lambda f: (shown[f], f))
+    part.pose_axis = face
+    settings = bpy.context.scene.mwb
+    settings.seek_want, settings.seek_budget_worlds, settings.threads = shown[face] + 1, 600, 2
+    assert bpy.ops.mwb.seek() == {"FINISHED"}
+    run = SESSION.run
+    while run_poller.poll_run() is not None:
+        time.sleep(0.05)
+    outcome = engine_process.SeekOutcome.from_summary(run.summary())
+    assert outcome.reached, SESSION.status
+    world = max(outcome.found)
+    assert world >= WORLDS and set(outcome.found) <= matching_worlds()
+    bpy.ops.mwb.select_world(world=world)
+    assert bpy.ops.mwb.bake_world() == {"FINISHED"}
+    # The die's baked rotation keys have that face up at the end.
+    end = bpy.context.scene.frame_end
+    keyed = Quaternion([compat.find_fcurve(die, "rotation_quaternion", k).evaluate(end) for k in range(4)])
+    up = keyed.to_matrix() @ Vector(FACES[face])
+    assert math.degrees(up.normalized().angle(Vector((0, 0, 1)))) < 12 + MARGIN_DEG
