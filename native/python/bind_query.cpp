@@ -271,6 +271,18 @@ void bind_query(py::module_& m) {
         "The worlds of the library meeting a goal file's text (boxes and orientation parts), as the "
         "goal search scores them; ascending. Raises ValueError for a goal that does not fit the library.");
     m.def(
+        "goal_order",
+        [](const std::vector<int32_t>& afters) {
+            try {
+                return goal_order(afters);
+            } catch (const std::invalid_argument& error) {
+                throw py::value_error(error.what());
+            }
+        },
+        py::arg("afters"),
+        "The order parts are met in, given each part's `after` (-1: none); ValueError for a part after\n"
+        "itself or a missing part, or a cycle (query/GoalScore.h).");
+    m.def(
         "check_goal",
         [](const std::vector<QueryBox>& boxes) {
             try {

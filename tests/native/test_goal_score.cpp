@@ -134,6 +134,37 @@ TEST(GoalOrder, FollowsAfterAndRefusesCyclesAndBadReferences) {
     EXPECT_EQ(goal_order({box(0, 1, 0, 1, {0}), box(0, 1, 0, 1, {0})}), (std::vector<size_t>{0, 1}));
 }
 
+TEST(GoalOrder, TheAftersAloneGiveTheOrderOfTheParts) {
+    // What the add-on's After menu asks: every list of afters orders (or refuses) as the goal would.
+    PortableRandom random(11);
+    for (int trial = 0; trial < 500; ++trial) {
+        const auto n = static_cast<size_t>(std::floor(random.uniform(1, 7)));
+        std::vector<int32_t> afters;
+        std::vector<QueryBox> parts;
+        for (size_t k = 0; k < n; ++k) {
+            // Mostly unordered or another part; now and then itself or a part past the end.
+            afters.push_back(static_cast<int32_t>(std::floor(random.uniform(-1.5, static_cast<double>(n) + 1))));
+            parts.push_back(box(0, 1, 0, 1, {0}, afters.back()));
+        }
+        bool refused_parts = false, refused_afters = false;
+        std::vector<size_t> by_parts, by_afters;
+        try {
+            by_parts = goal_order(parts);
+        } catch (const std::invalid_argument&) {
+            refused_parts = true;
+        }
+        try {
+            by_afters = goal_order(afters);
+        } catch (const std::invalid_argument&) {
+            refused_afters = true;
+        }
+        EXPECT_EQ(refused_parts, refused_afters);
+        EXPECT_EQ(by_parts, by_afters);
+    }
+    EXPECT_EQ(goal_order(std::vector<int32_t>{-1, 0, 1}), (std::vector<size_t>{0, 1, 2}));
+    EXPECT_THROW(goal_order(std::vector<int32_t>{2, 0, 1}), std::invalid_argument);
+}
+
 // Three cups in a row at x = 2, 4, 6; the marble must tip them in turn.
 std::vector<QueryBox> three_cups() {
     return {box(1.5, 2.5, 0, 1, {0}), box(3.5, 4.5, 0, 1, {0}, 0), box(5.5, 6.5, 0, 1, {0}, 1)};

@@ -154,15 +154,20 @@ def order_after_removing(afters, removed):
     return [-1 if a == removed else a - (a > removed) for k, a in enumerate(afters) if k != removed]
 
 
-def closes_order_cycle(afters, box, candidate):
-    """Whether making `box` met after `candidate` would order a box after itself, directly or
-    through the boxes `candidate` is met after (afters: as in order_among)."""
-    seen = set()
-    while 0 <= candidate < len(afters) and candidate not in seen:
-        if candidate == box:
-            return True
-        seen.add(candidate)
-        candidate = afters[candidate]
+def closes_order_cycle(afters, box, candidate, native=None):
+    """Whether making `box` met after `candidate` would order a part after itself, directly or
+    through the parts `candidate` is met after (afters: as in order_among). The module's goal
+    order decides, as it does for the goal itself (query/GoalScore.h)."""
+    if native is None:
+        from .. import _native as native
+    if not 0 <= candidate < len(afters):
+        return False
+    trial = list(afters)
+    trial[box] = candidate
+    try:
+        native.goal_order(trial)
+    except ValueError:
+        return True
     return False
 
 

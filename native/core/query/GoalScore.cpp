@@ -280,14 +280,14 @@ std::array<long long, 3> GoalScore::search_key() const {
     return {std::llround(value() * 1000), violated, std::llround(violation_closeness * 1000)};
 }
 
-std::vector<size_t> goal_order(const std::vector<QueryBox>& boxes) {
-    const size_t n = boxes.size();
+std::vector<size_t> goal_order(const std::vector<int32_t>& afters) {
+    const size_t n = afters.size();
     for (size_t k = 0; k < n; ++k)
-        if (boxes[k].after >= 0 && (static_cast<size_t>(boxes[k].after) >= n || static_cast<size_t>(boxes[k].after) == k))
+        if (afters[k] >= 0 && (static_cast<size_t>(afters[k]) >= n || static_cast<size_t>(afters[k]) == k))
             throw std::invalid_argument(
-                static_cast<size_t>(boxes[k].after) == k
+                static_cast<size_t>(afters[k]) == k
                     ? "part " + std::to_string(k + 1) + " is to be met after itself"
-                    : "part " + std::to_string(k + 1) + " is to be met after part " + std::to_string(boxes[k].after + 1) +
+                    : "part " + std::to_string(k + 1) + " is to be met after part " + std::to_string(afters[k] + 1) +
                           ", but the goal has " + std::to_string(n) + (n == 1 ? " part" : " parts"));
     // Each box has at most one predecessor: the order is a forest. Walk it depth first, roots in
     // list order, children in list order, so the order is the list's wherever the list allows.
@@ -295,7 +295,7 @@ std::vector<size_t> goal_order(const std::vector<QueryBox>& boxes) {
     std::vector<uint8_t> placed(n, 0);
     std::vector<size_t> stack;
     for (size_t root = 0; root < n; ++root) {
-        if (boxes[root].after >= 0) continue;
+        if (afters[root] >= 0) continue;
         stack.push_back(root);
         while (!stack.empty()) {
             const size_t k = stack.back();
@@ -303,12 +303,18 @@ std::vector<size_t> goal_order(const std::vector<QueryBox>& boxes) {
             placed[k] = 1;
             order.push_back(k);
             for (size_t c = n; c-- > 0;)
-                if (boxes[c].after == static_cast<int32_t>(k)) stack.push_back(c);
+                if (afters[c] == static_cast<int32_t>(k)) stack.push_back(c);
         }
     }
     for (size_t k = 0; k < n; ++k)
         if (!placed[k]) throw std::invalid_argument("the parts' order has a cycle through part " + std::to_string(k + 1));
     return order;
+}
+
+std::vector<size_t> goal_order(const std::vector<QueryBox>& boxes) {
+    std::vector<int32_t> afters;
+    for (const QueryBox& box : boxes) afters.push_back(box.after);
+    return goal_order(afters);
 }
 
 GoalScore score_goal(const std::vector<PathView>& paths, const std::vector<double>& body_radii_m,

@@ -23,6 +23,10 @@ using BodyOrientations = std::vector<std::vector<Quat>>;
 /// The boxes in the order they are met: every box after the one it must follow, otherwise in list
 /// order. Throws std::invalid_argument for an `after` that names no other box or an ordering cycle.
 std::vector<size_t> goal_order(const std::vector<QueryBox>& boxes);
+/// The same for the parts' `after`s alone (afters[k]: the position of the part that part k is met
+/// after, -1: none): the one rule the add-on's After menu asks, offering no order that closes a
+/// cycle.
+std::vector<size_t> goal_order(const std::vector<int32_t>& afters);
 
 struct GoalScore {
     /// Parts met (boxes and orientation parts); an ordered part counts only when the part before it
