@@ -152,12 +152,17 @@ def constraint(name, kind, obj1, obj2, location, rotation=(0, 0, 0), **settings)
     return con
 
 
-def variation(obj, location=(0, 0, 0), rotation=(0, 0, 0), linear_velocity=(0, 0, 0), angular_velocity=(0, 0, 0)):
-    """Symmetric ranges [-r, +r] per axis, world frame, added to the object's initial state."""
+def variation(obj, location=(0, 0, 0), rotation=(0, 0, 0), linear_velocity=(0, 0, 0), angular_velocity=(0, 0, 0),
+              linear_velocity_range=None):
+    """Symmetric ranges [-r, +r] per axis, world frame, added to the object's initial state;
+    `linear_velocity_range` = (low, high) instead gives a velocity range not centred on zero (a
+    throw, a shove)."""
     ranges = {}
     for key, r in (("location", location), ("rotation", rotation),
                    ("linear_velocity", linear_velocity), ("angular_velocity", angular_velocity)):
         ranges[f"{key}_min"], ranges[f"{key}_max"] = [-v for v in r], list(r)
+    if linear_velocity_range is not None:
+        ranges["linear_velocity_min"], ranges["linear_velocity_max"] = (list(v) for v in linear_velocity_range)
     # Stored where the add-on's Object.mwb_variation property group keeps them: Blender maps this
     # ID group onto the registered group, so the script needs no add-on to run.
     obj["mwb_variation"] = ranges

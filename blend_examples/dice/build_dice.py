@@ -141,10 +141,8 @@ def build_dice(mats):
 def throw(die):
     """The add-on's variation ranges for a throw: a linear velocity from THROW_MIN to THROW_MAX (a
     range not centred on zero: the add-on's min/max), spin ±SPIN, any rotation, a small offset."""
-    variation(die, location=(PLACE_SPREAD,) * 3, rotation=(math.pi,) * 3, angular_velocity=(SPIN,) * 3)
-    ranges = die["mwb_variation"].to_dict()
-    ranges["linear_velocity_min"], ranges["linear_velocity_max"] = list(THROW_MIN), list(THROW_MAX)
-    die["mwb_variation"] = ranges
+    variation(die, location=(PLACE_SPREAD,) * 3, rotation=(math.pi,) * 3, angular_velocity=(SPIN,) * 3,
+              linear_velocity_range=(THROW_MIN, THROW_MAX))
 
 
 def main():

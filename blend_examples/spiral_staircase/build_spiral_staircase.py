@@ -199,10 +199,7 @@ def build_joints(body, j, placement):
 def shove_range(obj, low, high, spin):
     """The add-on's variation ranges with a linear velocity from `low` to `high` (world axes, m/s)
     and an angular velocity of ±spin (rad/s)."""
-    variation(obj, angular_velocity=spin)
-    ranges = obj["mwb_variation"].to_dict()
-    ranges["linear_velocity_min"], ranges["linear_velocity_max"] = list(low), list(high)
-    obj["mwb_variation"] = ranges
+    variation(obj, angular_velocity=spin, linear_velocity_range=(low, high))
 
 
 def main():
