@@ -93,7 +93,7 @@ def test_refining_hull_bodies_in_workers_stores_every_child_as_one_process_does(
     assert supervised.read_bytes() == alone.read_bytes()
 
 
-def test_a_seek_on_hull_bodies_in_workers_makes_the_worlds_one_process_makes(native, engine, sampled, tmp_path):
+def test_a_pose_seek_on_hull_bodies_makes_the_same_worlds_in_workers_in_process_and_on_one_thread(native, engine, sampled, tmp_path):
     goal = tmp_path / "standing.goal.json"
     goal.write_text(json.dumps({"boxes": [], "orientations": [
         {"objects": ["Bottle.000", "Bottle.002"], "within_deg": 10, "time_window": [2.0, 3.0]}]}))
@@ -108,6 +108,11 @@ def test_a_seek_on_hull_bodies_in_workers_makes_the_worlds_one_process_makes(nat
     assert library.rejections == []
     assert len(library.world_indices) >= 8 + 40, "the search made its worlds"
     assert supervised.read_bytes() == alone.read_bytes()
+    # A pose goal's search is the same on one thread.
+    one = copy_of(sampled, tmp_path, "one.mwb")
+    single = [*seek[:seek.index("--threads")], "--threads", "1", "--json"]
+    assert run_engine(engine, "seek", "--library", str(one), *single).returncode == 0
+    assert one.read_bytes() == alone.read_bytes()
 
 
 def run_without_proc(command):
