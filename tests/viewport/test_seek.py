@@ -59,16 +59,15 @@ def click(window, x, y):
 
 
 def show_query_panel(window, area):
-    """The sidebar on the Many Worlds tab, with Sampling, Worlds and Refine folded so the Query
-    Boxes panel is at the top (clicks, as a user would; Blender 3.4 has no Python for either)."""
+    """The sidebar on the Many Worlds tab, with Sample folded so the Boxes panel and its Seek
+    subpanel are at the top (clicks, as a user would; Blender 3.4 has no Python for either)."""
     area.spaces.active.show_region_ui = True
     area.tag_redraw()
     yield
     ui = next(r for r in area.regions if r.type == "UI")
     top = ui.y + ui.height
     yield from click(window, ui.x + ui.width - 14, top - TAB_BELOW_TOP_PX)
-    for k in range(3):
-        yield from click(window, ui.x + 60, top - HEADER_BELOW_TOP_PX - k * FOLDED_PANEL_PX)
+    yield from click(window, ui.x + 60, top - HEADER_BELOW_TOP_PX)
 
 
 def screenshot(window, area, region, name):
