@@ -401,10 +401,11 @@ GoalScore score_goal(const std::vector<PathView>& paths, const std::vector<doubl
                                                     : score.met_time_s[k];
         if (decided < score.violation_time_s) ++score.parts_before_violation;
     }
+    if (!with_closeness) return score;
     double horizon = 0;
     for (const PathView& path : paths)
         if (path.point_count() > 0) horizon = std::max(horizon, path.end_time_s());
-    if (with_closeness && score.first_unmet >= 0 && kSpareWeight > 0) {
+    if (score.first_unmet >= 0 && kSpareWeight > 0) {
         // Time to spare: of two worlds that met as many parts, the one that met the last of them
         // sooner has more time left for the next, so a slow leader gives way to a quicker one.
         const QueryBox& next = boxes[static_cast<size_t>(score.first_unmet)];

@@ -226,11 +226,17 @@ QueryResult PathIndex::query(const std::vector<QueryBox>& boxes, uint64_t genera
         for (uint32_t body : box.bodies)
             if (body >= body_radii_m_.size()) throw std::out_of_range("query box names body " + std::to_string(body));
     }
-    // Per pose part (unordered goals only), per world: met (1), not (0) or not known yet (-1).
+    // Per pose part (unordered goals only), per world: met (1), not (0) or not known yet (-1); and
+    // the part as a goal of its own, scored alone.
     std::vector<std::vector<int8_t>> pose_met(boxes.size());
+    std::vector<std::vector<QueryBox>> pose_alone(boxes.size());
+    const std::vector<size_t> alone_order{0};
     if (!ordered)
         for (size_t p = 0; p < boxes.size(); ++p)
-            if (boxes[p].orientation) pose_met[p] = recalled_pose_answers(boxes[p], worlds);
+            if (boxes[p].orientation) {
+                pose_met[p] = recalled_pose_answers(boxes[p], worlds);
+                pose_alone[p] = {boxes[p]};
+            }
     // Each world's count is written to its own slot and the answer is assembled in world order,
     // so the result does not depend on the thread count.
     std::vector<uint32_t> satisfied(worlds.size(), 0);
@@ -273,7 +279,7 @@ QueryResult PathIndex::query(const std::vector<QueryBox>& boxes, uint64_t genera
                     if (known < 0) {
                         const BodyOrientations orientations =
                             rotations->rotations_at_path_points(world.world_index, boxes[p].bodies);
-                        known = score_goal(world.paths(), body_radii_m_, {boxes[p]}, {0}, false, &orientations).boxes_met;
+                        known = score_goal(world.paths(), body_radii_m_, pose_alone[p], alone_order, false, &orientations).boxes_met;
                     }
                     met += static_cast<uint32_t>(known);
                 }

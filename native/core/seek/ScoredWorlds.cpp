@@ -21,13 +21,6 @@ std::vector<double> body_radii(const Scene& scene) {
     return radii;
 }
 
-// The bodies the goal's orientation parts name.
-std::vector<uint32_t> oriented_bodies(const std::vector<QueryBox>& boxes) {
-    std::set<uint32_t> bodies;
-    for (const QueryBox& box : boxes)
-        if (box.orientation) bodies.insert(box.bodies.begin(), box.bodies.end());
-    return {bodies.begin(), bodies.end()};
-}
 
 }  // namespace
 
@@ -35,7 +28,7 @@ ScoredWorlds::ScoredWorlds(LibraryReader& reader, const Scene& scene, const std:
     : reader_(reader),
       boxes_(boxes),
       order_(goal_order(boxes)),
-      oriented_bodies_(oriented_bodies(boxes)),
+      oriented_bodies_(posed_bodies(boxes)),
       index_(body_radii(scene)),
       threads_(threads),
       sampled_meeting_(boxes.size(), 0) {}
