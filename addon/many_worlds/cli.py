@@ -123,7 +123,7 @@ def body_indices(view, objects_text):
 
 def command_sample(args):
     import bpy
-    from . import runs
+    from . import sample_setup
     if args.seeds and args.worlds:
         raise CliError("give --worlds or --seeds, not both")
     settings = getattr(bpy.context.scene, "mwb", None)
@@ -132,9 +132,9 @@ def command_sample(args):
     out = os.path.abspath(args.out)
     # The same path as the Sample button: the scene's run settings, --seed and --duration on top.
     try:
-        request, warnings = runs.sample_request(bpy.context, out, first, end - first, args.threads,
+        request, warnings = sample_setup.sample_request(bpy.context, out, first, end - first, args.threads,
                                                 seed=args.seed, duration_s=args.duration)
-    except runs.RunSetupError as error:
+    except sample_setup.RunSetupError as error:
         raise CliError(str(error)[0].lower() + str(error)[1:])
     constraints = {ob.name for ob in bpy.context.scene.objects if ob.rigid_body_constraint is not None}
     shown = warnings if args.all_warnings else export_warnings.grouped_warning_lines(warnings, constraints=constraints)
@@ -419,7 +419,7 @@ def command_seek(args):
 
         def progress_words(run):
             progress = run.seek_progress()
-            return engine.seek_progress_text(progress) if progress else None
+            return progress.text if progress else None
 
         return follow_engine(request, progress_words, json_summary=args.json)
 

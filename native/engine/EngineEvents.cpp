@@ -77,6 +77,7 @@ void EngineEvents::progress(uint64_t done, uint64_t total, const nlohmann::json&
         nlohmann::json fields = extra.is_object() ? extra : nlohmann::json::object();
         fields["done"] = done;
         fields["total"] = total;
+        fields["text"] = text;
         write("progress", std::move(fields));
     } else if (show_progress_) {
         std::lock_guard<std::mutex> lock(mutex_);

@@ -24,6 +24,7 @@
 
 #include "EngineEvents.h"
 #include "EngineOptions.h"
+#include "RunWords.h"
 #ifndef _WIN32
 #include "SupervisedSampler.h"
 #include "WorldWorker.h"
@@ -183,7 +184,8 @@ int run_sample(const EngineOptions& options, [[maybe_unused]] const std::vector<
     text << "sampled " << stats.worlds_ok << " worlds, rejected " << stats.worlds_rejected << ", skipped "
          << present.size() << " already stored" << (cancelled ? ", cancelled" : "") << " in " << stats.wall_time_s
          << " s -> " << options.output_path << "\n";
-    for (const auto& [reason, count] : stats.reject_reasons) text << "  rejected " << count << ": " << reason << "\n";
+    const std::string lost = rejections_text(stats.worlds_rejected, stats.reject_reasons);
+    if (!lost.empty()) text << "  " << lost << "\n";
     warn_of_ode_messages(events, stats.ode_messages);
     events.summary({{"library", options.output_path},
                     {"stored", stats.worlds_ok},
@@ -192,6 +194,7 @@ int run_sample(const EngineOptions& options, [[maybe_unused]] const std::vector<
                     {"cancelled", cancelled},
                     {"seconds", stats.wall_time_s},
                     {"reject_reasons", stats.reject_reasons},
+                    {"rejected_text", lost},
                     {"scene_parses", scene_parses_in_this_process()}},
                    text.str());
     return exit_status(cancelled);
@@ -248,7 +251,8 @@ int run_refine(const EngineOptions& options, EngineEvents& events) {
          << describe_change(options, outcome, reader.header().parameters.record_hz) << " into worlds "
          << outcome.first_child << ".." << outcome.first_child + options.world_count - 1 << ": " << stats.worlds_ok
          << " stored, " << stats.worlds_rejected << " rejected in " << stats.wall_time_s << " s";
-    for (const auto& [reason, count] : stats.reject_reasons) text << "\n  rejected " << count << ": " << reason;
+    const std::string lost = rejections_text(stats.worlds_rejected, stats.reject_reasons);
+    if (!lost.empty()) text << "\n  " << lost;
     warn_of_ode_messages(events, stats.ode_messages);
     events.summary({{"parent", options.parent_world},
                     {"first_child", outcome.first_child},
@@ -256,48 +260,11 @@ int run_refine(const EngineOptions& options, EngineEvents& events) {
                     {"stored", stats.worlds_ok},
                     {"rejected", stats.worlds_rejected},
                     {"reject_reasons", stats.reject_reasons},
+                    {"rejected_text", lost},
                     {"cancelled", bool(g_progress.cancel)},
                     {"seconds", stats.wall_time_s}},
                    text.str());
     return exit_status(g_progress.cancel);
-}
-
-std::string with_commas(uint64_t n) {
-    std::string digits = std::to_string(n), out;
-    for (size_t k = 0; k < digits.size(); ++k) {
-        if (k && (digits.size() - k) % 3 == 0) out += ',';
-        out += digits[k];
-    }
-    return out;
-}
-
-// What a goal's parts are called: boxes, unless some part tests orientation.
-std::string parts_word(const std::vector<QueryBox>& goal) {
-    const bool oriented = std::any_of(goal.begin(), goal.end(), [](const QueryBox& b) { return b.orientation.has_value(); });
-    return oriented ? " goal parts" : " boxes";
-}
-
-// How a seek ended, in one line for people.
-std::string seek_outcome_text(const EngineOptions& options, const SeekOutcome& outcome, const std::string& parts) {
-    std::ostringstream made;
-    made.precision(1);
-    made << std::fixed << " (" << with_commas(outcome.worlds_made) << " worlds made in " << outcome.seconds << " s";
-    if (outcome.worlds_rejected > 0) made << ", " << with_commas(outcome.worlds_rejected) << " of them rejected";
-    made << ")";
-    std::ostringstream text;
-    if (outcome.reached) {
-        text << "seek: " << outcome.found.size() << (outcome.found.size() == 1 ? " world meets" : " worlds meet")
-             << " all " << outcome.box_count << parts << ":";
-        for (size_t k = 0; k < outcome.found.size() && k < 20; ++k) text << (k ? ", " : " ") << outcome.found[k];
-        if (outcome.found.size() > 20) text << ", ...";
-    } else {
-        text << "seek: " << (outcome.cancelled ? "cancelled" : "budget spent") << "; best world " << outcome.best_world
-             << " meets " << outcome.best_boxes_met << " of " << outcome.box_count << parts;
-        if (!outcome.found.empty()) text << " (" << outcome.found.size() << " of " << options.want << " wanted found)";
-    }
-    text << made.str();
-    for (const auto& [reason, count] : outcome.reject_reasons) text << "\n  rejected " << count << ": " << reason;
-    return text.str();
 }
 
 // Searches the library for worlds meeting a goal (see GoalSearch.h), appending every world it
@@ -311,7 +278,6 @@ int run_seek(const EngineOptions& options, EngineEvents& events) {
         const LibraryReader reader(options.library_path);
         request.boxes = goal_from_json(goal_text, scene_from_json(reader.scene_json()));
     }
-    const std::string parts = parts_word(request.boxes);
     request.want = options.want;
     request.budget_worlds = options.budget_worlds;
     request.budget_s = options.budget_s;
@@ -325,9 +291,6 @@ int run_seek(const EngineOptions& options, EngineEvents& events) {
     SeekStatus last;
     uint64_t arrived_since_status = 0;
     auto report = [&](const SeekStatus& s) {
-        std::ostringstream text;
-        text << "seek: best " << s.best_boxes_met << " of " << s.box_count << parts << " (world " << s.best_world
-             << "), " << with_commas(s.worlds_made) << " worlds made";
         events.progress(s.worlds_made, options.budget_worlds,
                         {{"seek",
                           {{"boxes_met", s.best_boxes_met},
@@ -336,7 +299,7 @@ int run_seek(const EngineOptions& options, EngineEvents& events) {
                            {"worlds_rejected", s.worlds_rejected},
                            {"best_world", s.best_world},
                            {"worlds_meeting_goal", s.worlds_meeting_goal}}}},
-                        text.str());
+                        seek_progress_text(s));
     };
     const SeekOutcome outcome = seek_goal(
         options.library_path, request,
@@ -359,9 +322,10 @@ int run_seek(const EngineOptions& options, EngineEvents& events) {
                                 {"boxes", outcome.box_count},         {"worlds_made", outcome.worlds_made},
                                 {"refinements", outcome.refinements}, {"seconds", outcome.seconds},
                                 {"cancelled", outcome.cancelled},     {"rejected", outcome.worlds_rejected},
-                                {"reject_reasons", outcome.reject_reasons}};
+                                {"reject_reasons", outcome.reject_reasons},
+                                {"rejected_text", rejections_text(outcome.worlds_rejected, outcome.reject_reasons)}};
     warn_of_ode_messages(events, outcome.ode_messages);
-    events.summary(fields, options.json ? fields.dump() : seek_outcome_text(options, outcome, parts));
+    events.summary(fields, options.json ? fields.dump() : seek_outcome_text(outcome, options.want));
     return exit_status(outcome.cancelled);
 }
 

@@ -361,7 +361,9 @@ def test_seek_grows_the_library_until_a_world_meets_the_goal(library, tmp_path):
     assert (outcome["best"] in meets) == (outcome["best_boxes_met"] == 3 == outcome["boxes"])
     # Without --json, one line for people.
     summary = output_lines(cli("seek", str(grown), *GOAL, "--want", "1", "--budget", "3"))
-    assert len(summary) == 1 and summary[0].startswith("seek: "), summary
+    # The library already holds worlds meeting it: the line names them.
+    assert len(summary) == 1 and summary[0].startswith("Goal reached: "), summary
+    assert f"({min(outcome['found'])}" in summary[0], summary
 
 
 @needs_seek

@@ -85,7 +85,7 @@ def test_an_order_that_would_close_a_cycle_is_recognised():
     assert not closes_order_cycle(afters, 3, -1)
 
 
-def test_seek_request_and_the_texts_of_its_progress_and_outcome():
+def test_seek_request_and_the_outcome_read_from_its_summary():
     argv = engine.SeekRequest("l.mwb", "l.goal.json", 3, 2000, threads=2).arguments()
     assert argv[:5] == ["seek", "--library", "l.mwb", "--goal", "l.goal.json"]
     assert argv[argv.index("--want") + 1] == "3" and argv[argv.index("--budget-worlds") + 1] == "2000"
@@ -94,47 +94,14 @@ def test_seek_request_and_the_texts_of_its_progress_and_outcome():
     argv = engine.SeekRequest("l.mwb", "g", 1, 10, budget_s=60, seed=4).arguments()
     assert argv[argv.index("--budget-s") + 1] == "60.0" and argv[argv.index("--seed") + 1] == "4"
 
-    progress = engine.SeekProgress(5, 6, 3120, 418, 0)
-    assert engine.seek_progress_text(progress) == "best 5 of 6 parts (world 418), 3,120 worlds made"
-
     reached = engine.SeekOutcome.from_summary({"reached": True, "found": [412, 415, 430], "best": 412,
-                                               "best_boxes_met": 6, "boxes": 6, "worlds_made": 1204, "seconds": 61.2})
+                                               "best_boxes_met": 6, "boxes": 6, "worlds_made": 1204, "seconds": 61.2,
+                                               "text": "Goal reached: 3 worlds meet all 6 parts"})
     assert reached.found == (412, 415, 430) and reached.best == 412
-    assert engine.seek_outcome_text(reached, 3) == ("Goal reached: 3 worlds meet all 6 parts (412, 415, 430); "
-                                                    "1,204 worlds made in 61.2 s")
-    spent = engine.SeekOutcome.from_summary({"reached": False, "found": [], "best": 418, "best_boxes_met": 5,
-                                             "boxes": 6, "worlds_made": 2000, "seconds": 80.0})
-    assert engine.seek_outcome_text(spent, 1) == ("Budget spent: best world 418 meets 5 of 6 parts; "
-                                                  "2,000 worlds made in 80.0 s")
+    # The engine words the outcome (RunWords, held by the native tests); the add-on shows it as it is.
+    assert reached.text == "Goal reached: 3 worlds meet all 6 parts"
     # Another command's summary is not a seek's outcome.
     assert engine.SeekOutcome.from_summary({"stored": 3, "rejected": 0, "text": "sampled 3 worlds"}) is None
-
-
-def test_seek_summary_says_how_many_were_wanted_and_names_a_single_part_goal():
-    partial = engine.SeekOutcome(reached=False, found=(412,), best=412, best_boxes_met=6, boxes=6, worlds_made=2000,
-                                 seconds=80.0)
-    assert engine.seek_outcome_text(partial, 3) == ("Budget spent: 1 world meets all 6 parts (412) of 3 wanted; "
-                                                    "2,000 worlds made in 80.0 s")
-    one = engine.SeekOutcome(reached=True, found=tuple(range(10)), best=0, best_boxes_met=1, boxes=1, worlds_made=0,
-                             seconds=0.0)
-    assert engine.seek_outcome_text(one, 2) == ("Goal reached: 10 worlds meet the goal (0, 1, 2, 3, 4, 5, 6, 7 and "
-                                                "2 more); 0 worlds made in 0.0 s")
-    assert engine.seek_progress_text(engine.SeekProgress(0, 1, 8, -1, 0)) == "best 0 of 1 part, 8 worlds made"
-
-
-def test_a_seek_that_lost_worlds_says_how_many_and_why_commonest_first():
-    lost = engine.SeekOutcome.from_summary({
-        "reached": False, "found": [], "best": 418, "best_boxes_met": 5, "boxes": 6, "worlds_made": 2000,
-        "seconds": 80.0, "rejected": 11, "reject_reasons": {"the simulation crashed (signal 11, Segmentation fault)": 1,
-                                                            "the simulation did not finish within 120 s": 8,
-                                                            "a body flew off (faster than 100 m/s)": 2}})
-    assert engine.seek_outcome_text(lost, 1) == (
-        "Budget spent: best world 418 meets 5 of 6 parts; 2,000 worlds made in 80.0 s, 11 rejected "
-        "(8: the simulation did not finish within 120 s; 2: a body flew off (faster than 100 m/s); "
-        "1 for another reason)")
-    progress = engine.SeekProgress(0, 1, 24, -1, 0, worlds_rejected=8)
-    assert engine.seek_progress_text(progress) == "best 0 of 1 part, 24 worlds made (8 rejected)"
-    assert engine.rejections_text(0, ()) == ""
 
 
 def test_worlds_meeting_an_orientation_goal_are_those_whose_recorded_rotations_keep_within_it(native, engine,

@@ -21,6 +21,8 @@ RunSettings = _native.RunSettings
 LibraryHolding = _native.LibraryHolding
 # The error code of sampling into a library that holds another run (PROTOCOL.ERROR_CODES has it).
 OTHER_RUN = "other_run"
+# On Windows the engine, a console program, would open a console window of its own beside Blender.
+NO_CONSOLE_WINDOW = getattr(subprocess, "CREATE_NO_WINDOW", 0)
 
 
 # --- requests: one per engine command ---------------------------------------------------------
@@ -163,6 +165,7 @@ class SeekProgress:
     best_world: int         # -1 while there is none
     worlds_meeting_goal: int
     worlds_rejected: int = 0  # of worlds_made
+    text: str = ""            # the engine's line for people: 'best 5 of 6 parts (world 418), ...'
 
 
 @dataclass(frozen=True)
@@ -175,8 +178,8 @@ class SeekOutcome:
     boxes: int
     worlds_made: int
     seconds: float
-    rejected: int = 0                  # of worlds_made
-    reject_reasons: Tuple[Tuple[str, int], ...] = ()  # (why, how many), most first
+    rejected: int = 0        # of worlds_made
+    text: str = ""           # the engine's line for people: 'Goal reached: 3 worlds meet ...'
 
     @classmethod
     def from_summary(cls, fields):
@@ -187,7 +190,7 @@ class SeekOutcome:
                    best=int(fields["best"]), best_boxes_met=int(fields["best_boxes_met"]),
                    boxes=int(fields["boxes"]), worlds_made=int(fields["worlds_made"]),
                    seconds=float(fields["seconds"]), rejected=int(fields.get("rejected", 0)),
-                   reject_reasons=sorted_reasons(fields.get("reject_reasons", {})))
+                   text=str(fields.get("text", "")))
 
 
 @dataclass(frozen=True)
@@ -215,66 +218,6 @@ def other_protocol_failure(engine, event):
                                          f"{PROTOCOL.VERSION}: use the engine that came with the add-on")
 
 
-def sorted_reasons(reasons):
-    """A summary's reject_reasons ({why: how many}) as ((why, how many), ...), most first."""
-    return tuple(sorted(((str(why), int(count)) for why, count in reasons.items()), key=lambda r: (-r[1], r[0])))
-
-
-def rejections_text(rejected, reasons, shown=2):
-    """'8 rejected (8: the simulation did not finish within 120 s)', the commonest reasons first;
-    '' when nothing was rejected."""
-    if not rejected:
-        return ""
-    parts = [f"{count}: {why}" for why, count in reasons[:shown]]
-    if len(reasons) > shown:
-        others = len(reasons) - shown
-        why = "another reason" if others == 1 else f"{others} other reasons"
-        parts.append(f"{sum(count for _, count in reasons[shown:])} for {why}")
-    return f"{rejected:,} rejected" + (f" ({'; '.join(parts)})" if parts else "")
-
-
-def parts_text(count):
-    """'1 part', '6 parts': a goal's parts, boxes and poses together (the engine counts both)."""
-    return "1 part" if count == 1 else f"{count} parts"
-
-
-def seek_progress_text(progress):
-    """'best 5 of 6 parts (world 418), 3,120 worlds made', and how many meet the goal once some do."""
-    best = f" (world {progress.best_world})" if progress.best_world >= 0 else ""
-    text = (f"best {progress.boxes_met} of {parts_text(progress.box_count)}{best}, "
-            f"{progress.worlds_made:,} worlds made")
-    if progress.worlds_rejected:
-        text += f" ({progress.worlds_rejected:,} rejected)"
-    if progress.worlds_meeting_goal:
-        text += f", {progress.worlds_meeting_goal:,} meet all"
-    return text
-
-
-def _world_list(worlds, limit=8):
-    shown = ", ".join(str(w) for w in worlds[:limit])
-    return shown + (f" and {len(worlds) - limit} more" if len(worlds) > limit else "")
-
-
-def seek_outcome_text(outcome, want):
-    """One line on how a seek ended, e.g. 'Goal reached: 3 worlds meet all 6 parts (412, 415, 430);
-    1,204 worlds made in 61.2 s' or 'Budget spent: best world 418 meets 5 of 6 parts; ...'."""
-    made = f"{outcome.worlds_made:,} worlds made in {outcome.seconds:.1f} s"
-    lost = rejections_text(outcome.rejected, outcome.reject_reasons)
-    if lost:
-        made += f", {lost}"
-    found = list(outcome.found)
-    noun = "world meets" if len(found) == 1 else "worlds meet"
-    every = "the goal" if outcome.boxes == 1 else f"all {outcome.boxes} parts"
-    if outcome.reached:
-        return f"Goal reached: {len(found)} {noun} {every} ({_world_list(found)}); {made}"
-    if found:
-        return f"Budget spent: {len(found)} {noun} {every} ({_world_list(found)}) of {want} wanted; {made}"
-    if outcome.best < 0:
-        return f"Budget spent: no world meets any of the {parts_text(outcome.boxes)}; {made}"
-    return (f"Budget spent: best world {outcome.best} meets {outcome.best_boxes_met} of {parts_text(outcome.boxes)}; "
-            f"{made}")
-
-
 # --- the running child -------------------------------------------------------------------------
 
 @dataclass
@@ -292,17 +235,19 @@ class _RunState:
 
 class EngineRun:
     """One running `mwb-engine` child started from a request. Thread-safe to poll from the UI
-    thread. `engine`: the executable (the add-on's own when None)."""
+    thread. `engine`: the executable (when None, paths.engine_command(): the add-on's own, or
+    what $MWB_ENGINE_COMMAND says)."""
 
     def __init__(self, request, engine=None):
         self.request = request
-        self.argv = [engine or paths.engine_path()] + request.arguments() + ["--events"]
+        self.command = [engine] if engine else paths.engine_command()
+        self.argv = self.command + request.arguments() + ["--events"]
         self._lock = threading.Lock()
         self._state = _RunState()
         self.cancel_requested = False
         # Binary pipes, decoded per line: an event is UTF-8 whatever the platform's locale.
         self._process = subprocess.Popen(self.argv, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
-                                         stderr=subprocess.PIPE)
+                                         stderr=subprocess.PIPE, creationflags=NO_CONSOLE_WINDOW)
         self._readers = [threading.Thread(target=self._read_events, name="mwb-engine-events", daemon=True),
                          threading.Thread(target=self._read_log, name="mwb-engine-log", daemon=True)]
         for reader in self._readers:
@@ -310,7 +255,7 @@ class EngineRun:
 
     # One reader per event the protocol has; a test holds this table to PROTOCOL.EVENTS.
     def _on_start(self, state, event):
-        state.refused = other_protocol_failure(self.argv[0], event)
+        state.refused = other_protocol_failure(" ".join(self.command), event)
         if state.refused is not None:
             # Its other events may mean other things: none is read, and it stops here.
             self._process.kill()
@@ -321,7 +266,7 @@ class EngineRun:
             s = event["seek"]
             state.seek = SeekProgress(int(s["boxes_met"]), int(s["box_count"]), int(s["worlds_made"]),
                                       int(s["best_world"]), int(s["worlds_meeting_goal"]),
-                                      int(s.get("worlds_rejected", 0)))
+                                      int(s.get("worlds_rejected", 0)), str(event.get("text", "")))
 
     def _on_world(self, state, event):
         state.last_world = int(event["index"])

@@ -1,20 +1,46 @@
 """Where the add-on finds the engine and where it writes its files."""
 import os
+import shlex
+import shutil
 
 PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# The one test of the platform: every difference Windows makes to starting the engine keys on it.
+WINDOWS = os.name == "nt"
+
+
+def engine_file_name(windows=WINDOWS):
+    """The engine executable's file name in the package's bin/: 'mwb-engine.exe' on Windows."""
+    return "mwb-engine.exe" if windows else "mwb-engine"
 
 
 def engine_path():
     """The mwb-engine executable: $MWB_ENGINE, else the one the build copies into the package."""
-    bundled = os.path.join(PACKAGE_DIR, "bin", "mwb-engine")
+    bundled = os.path.join(PACKAGE_DIR, "bin", engine_file_name())
     path = os.environ.get("MWB_ENGINE") or bundled
     if not os.path.isfile(path):
         raise FileNotFoundError(f"mwb-engine not found at {path}: build the project (cmake --build build) "
                                 "or set MWB_ENGINE")
-    if path == bundled and not os.access(path, os.X_OK):
+    if not WINDOWS and path == bundled and not os.access(path, os.X_OK):
         # Blender unpacks an installed extension's zip without the files' permission bits.
         os.chmod(path, os.stat(path).st_mode | 0o111)
     return path
+
+
+def engine_command():
+    """The start of the command line that runs the engine, as a list: $MWB_ENGINE_COMMAND split as
+    a POSIX shell would (a program that runs the engine, such as 'wine64 /path/mwb-engine.exe'),
+    else [engine_path()]. Raises FileNotFoundError for an empty $MWB_ENGINE_COMMAND or one whose
+    program is not found."""
+    command = os.environ.get("MWB_ENGINE_COMMAND")
+    if command is None:
+        return [engine_path()]
+    argv = shlex.split(command)
+    if not argv:
+        raise FileNotFoundError("MWB_ENGINE_COMMAND is set but empty: give the command that runs mwb-engine "
+                                "(or unset it to run the add-on's own engine)")
+    if shutil.which(argv[0]) is None:
+        raise FileNotFoundError(f"MWB_ENGINE_COMMAND: the program {argv[0]!r} is not found")
+    return argv
 
 
 def default_library_name(blend_path):

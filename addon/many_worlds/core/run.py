@@ -102,7 +102,7 @@ class Run:
         rejected = int(summary.get("rejected", 0))
         kept = int(summary["stored"]) if "stored" in summary else self.progress()[0] - rejected
         made = FINISHED_TEXT.get(self.kind, "{done} new worlds").format(done=kept)
-        lost = engine_process.rejections_text(rejected, engine_process.sorted_reasons(summary.get("reject_reasons", {})))
+        lost = summary.get("rejected_text", "")
         return f"{made}{'; ' + lost if lost else ''}{self.note}; the library holds {stored}"
 
     def cancelled_text(self, stored):

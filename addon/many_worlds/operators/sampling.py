@@ -8,7 +8,7 @@ import os
 
 import bpy
 
-from .. import export, preview, props, runs
+from .. import export, preview, props, sample_setup
 from ..core import libraries, paths
 from ..core.run import RunKind
 from ..core.session import SESSION
@@ -91,9 +91,9 @@ def start_sampling(context, finish_interrupted=True):
         (next_world_index(SESSION.view), settings.world_count)
     known = [bpy.path.abspath(item.path) for item in settings.libraries]
     try:
-        engine = paths.engine_path()
-        request, chosen, first, warnings = runs.sample_into_matching_library(context, library, known, first, count)
-    except runs.RunSetupError as error:
+        paths.engine_command()  # no engine: say so before exporting
+        request, chosen, first, warnings = sample_setup.sample_into_matching_library(context, library, known, first, count)
+    except sample_setup.RunSetupError as error:
         SESSION.export_warnings = list(error.problems)
         return False, str(error), error.problems
     except FileNotFoundError as error:
@@ -111,7 +111,7 @@ def start_sampling(context, finish_interrupted=True):
     settings["library_index"] = list(settings.libraries).index(item)
     end = first + count
     start_run(scene, RunKind.SAMPLE, request, chosen, f"Sampling worlds {first} to {end - 1}{note}", note=note,
-              follower=SampleFollower(), world_range=(first, end), engine=engine)
+              follower=SampleFollower(), world_range=(first, end))
     return True, SESSION.status, warnings
 
 

@@ -34,9 +34,7 @@ def seek_problem(scene):
 class SeekFollower:
     """The panel's line while a seek runs and when it ends; selects each new best world."""
 
-    def __init__(self, want, part_count):
-        self.want = want
-        self.part_count = part_count
+    def __init__(self):
         self.selected = -1
         self.shown = None   # the SeekProgress the panel shows
 
@@ -57,8 +55,8 @@ class SeekFollower:
             self.shown = progress
             self._select(scene, progress.best_world)
         if self.shown is None:
-            return f"Seeking {engine_process.parts_text(self.part_count)}: first worlds under way"
-        return f"Seeking: {engine_process.seek_progress_text(self.shown)}"
+            return "Seeking: first worlds under way"
+        return f"Seeking: {self.shown.text}"
 
     def ended(self, scene, run, stored):
         outcome = engine_process.SeekOutcome.from_summary(run.summary())
@@ -68,11 +66,11 @@ class SeekFollower:
         elif progress is not None:
             self._select(scene, progress.best_world)
         if run.cancel_requested:
-            where = f"{engine_process.seek_progress_text(progress)}; " if progress is not None else ""
+            where = f"{progress.text}; " if progress is not None else ""
             return f"Seek cancelled: {where}the library keeps {stored:,} worlds"
         if outcome is None:
             return f"Seek ended without a summary; the library holds {stored:,} worlds"
-        return engine_process.seek_outcome_text(outcome, self.want)
+        return outcome.text
 
 
 def start_seek(context):
@@ -86,14 +84,14 @@ def start_seek(context):
     view = SESSION.view
     specs = scene_boxes.enabled_specs(scene, view)
     noun = "world" if settings.seek_want == 1 else "worlds"
+    parts = "1 part" if len(specs) == 1 else f"{len(specs)} parts"
     try:
         goal_path = core_goal.write_goal(paths.goal_json_path(view.path), specs)
         request = engine_process.SeekRequest(view.path, goal_path, settings.seek_want, settings.seek_budget_worlds,
                                              settings.seek_budget_s, threads=settings.threads)
         start_run(scene, RunKind.SEEK, request, view.path,
-                  f"Seeking {settings.seek_want} {noun} meeting {engine_process.parts_text(len(specs))} in "
-                  f"{os.path.basename(view.path)}",
-                  follower=SeekFollower(settings.seek_want, len(specs)))
+                  f"Seeking {settings.seek_want} {noun} meeting {parts} in {os.path.basename(view.path)}",
+                  follower=SeekFollower())
     except (ValueError, OSError) as error:
         return False, str(error)
     return True, SESSION.status

@@ -4,21 +4,24 @@
 // and nothing else there; each has an "event" key naming one of kEngineEvents. The program asks
 // a run to stop by writing "cancel" and a newline to the engine's standard input.
 //
-// Version 1 events (every one also has "event"):
+// Version 2 events (every one also has "event"):
 //   start     protocol, command, engine_build
-//   progress  done, total (worlds of this command); a seek adds "seek": {boxes_met, box_count,
-//             worlds_made, best_world (-1: none yet), worlds_meeting_goal}
+//   progress  done, total (worlds of this command), text (the line for people); a seek adds
+//             "seek": {boxes_met, box_count, worlds_made, worlds_rejected, best_world,
+//             worlds_meeting_goal}
 //   world     index, stored (false: rejected), reason (empty when stored)
 //   warning   code (one of kWarningCodes), message
 //   error     code (one of kErrorCodes), message; problems: every line of an invalid scene
-//   summary   text (what the engine would print for people) and the command's own fields
+//   summary   text (what the engine would print for people), rejected_text (sample, refine and
+//             seek: "8 rejected (...)", empty when none) and the command's own fields
+// Front ends show `text` and `rejected_text` as they are: the engine words its runs (RunWords.h).
 // The exit status is an EngineExit.
 #include <string>
 #include <vector>
 
 namespace mwb {
 
-constexpr int kEngineProtocolVersion = 1;
+constexpr int kEngineProtocolVersion = 2;
 
 /// The process's exit status; a program tells outcomes apart by these, never by message text.
 enum class EngineExit : int {
