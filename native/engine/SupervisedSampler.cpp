@@ -1,11 +1,5 @@
 #include "SupervisedSampler.h"
 
-#include <fcntl.h>
-#include <poll.h>
-#include <signal.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
@@ -15,6 +9,7 @@
 #include <string>
 
 #include "WorkerJob.h"
+#include "WorkerProcess.h"
 #include "WorldWorker.h"
 #include "library/LibraryFormat.h"
 #include "library/WorldRecord.h"
@@ -32,10 +27,9 @@ constexpr double kMinWorldLimit_s = 60;
 constexpr double kSlowestWorldFactor = 20;
 constexpr int kPollInterval_ms = 100;
 
-// One worker process: its pipes, the world it is on and what it has sent so far.
+// One worker process: the world it is on and what it has sent so far.
 struct Worker {
-    pid_t pid = -1;
-    int to_worker = -1, from_worker = -1;
+    std::unique_ptr<WorkerProcess> process;  ///< none until started, and after it ended
     bool busy = false;
     size_t task = 0;     ///< the position of its task in the run, while busy
     uint64_t world = 0;  ///< the world it is on, while busy
@@ -54,14 +48,6 @@ struct HeldRecord {
     std::vector<uint8_t> payload;
     std::optional<WorldResult> rejection;
 };
-
-std::string describe_exit(int status) {
-    if (WIFSIGNALED(status)) {
-        const int sig = WTERMSIG(status);
-        return "the simulation crashed (signal " + std::to_string(sig) + ", " + strsignal(sig) + ")";
-    }
-    return "the simulation process ended unexpectedly (exit " + std::to_string(WEXITSTATUS(status)) + ")";
-}
 
 }  // namespace
 
@@ -110,7 +96,7 @@ private:
         if (workers_.size() < wanted) workers_.resize(wanted);
         for (Worker& w : workers_) {
             if (next_ >= tasks_->size()) break;
-            if (w.pid < 0) spawn(w);
+            if (!w.process) spawn(w);
             assign_next(w);
         }
         while (next_ < tasks_->size() || any_busy()) {
@@ -128,9 +114,8 @@ private:
     // a task: the world given to it would be blamed for its end.
     void reap_idle_workers() {
         for (Worker& w : workers_) {
-            if (w.pid < 0) continue;
-            pollfd fd{w.from_worker, POLLIN, 0};
-            if (!w.fault.empty() || ::poll(&fd, 1, 0) > 0) stop(w);
+            if (!w.process) continue;
+            if (!w.fault.empty() || w.process->output_waiting()) stop(w);
         }
     }
 
@@ -139,38 +124,8 @@ private:
     }
 
     void spawn(Worker& w) {
-        int to[2] = {-1, -1}, from[2] = {-1, -1};
-        auto fail = [&](const char* what) {
-            const std::string message = std::string("cannot start a worker: ") + what + ": " + std::strerror(errno);
-            for (int fd : {to[0], to[1], from[0], from[1]})
-                if (fd >= 0) ::close(fd);
-            throw std::runtime_error(message);
-        };
-        if (::pipe2(to, O_CLOEXEC) != 0 || ::pipe2(from, O_CLOEXEC) != 0) fail("pipe");
-        std::vector<char*> argv{const_cast<char*>(run_.engine_path.c_str())};
-        for (const std::string& a : run_.worker_args) argv.push_back(const_cast<char*>(a.c_str()));
-        argv.push_back(nullptr);
-        const pid_t pid = ::fork();
-        if (pid < 0) fail("fork");
-        if (pid == 0) {
-            // Jobs and records travel on descriptors of their own. ODE and the C library print to
-            // standard output: in a worker that is the engine's standard error, the log.
-            const int jobs = ::fcntl(to[0], F_DUPFD, kWorkerRecordsFd + 1);
-            const int records = ::fcntl(from[1], F_DUPFD, kWorkerRecordsFd + 1);
-            const int nothing = ::open("/dev/null", O_RDONLY);
-            if (jobs < 0 || records < 0 || nothing < 0 || ::dup2(jobs, kWorkerJobsFd) < 0 ||
-                ::dup2(records, kWorkerRecordsFd) < 0 || ::dup2(nothing, STDIN_FILENO) < 0 ||
-                ::dup2(STDERR_FILENO, STDOUT_FILENO) < 0)
-                std::_Exit(127);
-            ::execv(argv[0], argv.data());
-            std::_Exit(127);
-        }
-        ::close(to[0]);
-        ::close(from[1]);
         w = Worker{};
-        w.pid = pid;
-        w.to_worker = to[1];
-        w.from_worker = from[0];
+        w.process = std::make_unique<WorkerProcess>(run_.engine_path, run_.worker_args);
     }
 
     // Hands the worker the next task, if any; an idle worker waits for the next run.
@@ -183,30 +138,23 @@ private:
         w.lineage_worlds = task.lineage_worlds;
         w.lineage_ready = task.lineage_worlds == 0;
         w.started = Clock::now();
-        const std::string line = task.line + "\n";
         // A worker that died already shows up as the end of its output; its world is handled there.
-        [[maybe_unused]] const ssize_t written = ::write(w.to_worker, line.data(), line.size());
+        w.process->send(task.line + "\n");
     }
 
     void wait_for_workers() {
-        std::vector<pollfd> fds;
+        std::vector<WorkerProcess*> running;
         std::vector<Worker*> polled;
         for (Worker& w : workers_)
-            if (w.pid >= 0) {
-                fds.push_back({w.from_worker, POLLIN, 0});
+            if (w.process) {
+                running.push_back(w.process.get());
                 polled.push_back(&w);
             }
-        if (fds.empty() || ::poll(fds.data(), fds.size(), kPollInterval_ms) <= 0) return;
-        for (size_t k = 0; k < fds.size(); ++k)
-            if (fds[k].revents & (POLLIN | POLLHUP | POLLERR)) read_from(*polled[k]);
+        for (size_t k : wait_for_output(running, kPollInterval_ms)) read_from(*polled[k]);
     }
 
     void read_from(Worker& w) {
-        uint8_t chunk[1 << 16];
-        const ssize_t n = ::read(w.from_worker, chunk, sizeof chunk);
-        if (n < 0 && errno == EINTR) return;
-        if (n <= 0) return worker_ended(w);
-        w.received.insert(w.received.end(), chunk, chunk + n);
+        if (!w.process->read_some(w.received)) return worker_ended(w);
         while (w.received.size() >= kWorkerRecordHeaderBytes) {
             WorkerRecordHeader h;
             std::memcpy(&h.world_index, w.received.data(), 8);
@@ -259,18 +207,15 @@ private:
 
     // The worker's output ended: it died in a world (or, idle, for no reason of its own).
     void worker_ended(Worker& w) {
-        int status = 0;
-        ::waitpid(w.pid, &status, 0);
-        ::close(w.from_worker);
-        if (w.to_worker >= 0) ::close(w.to_worker);
-        w.pid = w.from_worker = w.to_worker = -1;
+        const WorkerExit exit = w.process->wait();
+        w.process.reset();
         if (w.busy) {
             w.busy = false;
             // A worker that stops normally without a single world could not start at all (no
             // scene, no library, no engine): every world would fail the same way, so the run stops.
-            if (w.fault.empty() && WIFEXITED(status) && w.records == 0)
-                throw std::runtime_error("a simulation worker could not start (" + describe_exit(status) + ")");
-            reject(w.task, w.world, w.fault.empty() ? describe_exit(status) : w.fault);
+            if (w.fault.empty() && exit.normal && w.records == 0)
+                throw std::runtime_error("a simulation worker could not start (" + exit.description + ")");
+            reject(w.task, w.world, w.fault.empty() ? exit.description : w.fault);
         }
         if (next_ < tasks_->size()) {
             spawn(w);
@@ -298,23 +243,17 @@ private:
     void enforce_time_limit() {
         const double limit = time_limit_s();
         for (Worker& w : workers_) {
-            if (!w.busy || w.pid < 0 || !w.fault.empty()) continue;
+            if (!w.busy || !w.process || !w.fault.empty()) continue;
             // Re-simulating a lineage first takes up to as long as its worlds.
             const double allowed = w.lineage_ready ? limit : limit * (1.0 + w.lineage_worlds);
             if (std::chrono::duration<double>(Clock::now() - w.started).count() <= allowed) continue;
             w.fault = "the simulation did not finish within " + std::to_string(static_cast<long>(allowed)) + " s";
-            ::kill(w.pid, SIGKILL);
+            w.process->kill();
         }
     }
 
-    void stop(Worker& w) {
-        if (w.pid < 0) return;
-        if (w.to_worker >= 0) ::close(w.to_worker);
-        ::kill(w.pid, SIGKILL);
-        ::waitpid(w.pid, nullptr, 0);
-        ::close(w.from_worker);
-        w = Worker{};
-    }
+    // Ends the worker at once (its process is killed and reaped) and forgets it.
+    void stop(Worker& w) { w = Worker{}; }
 
     SupervisedRun run_;
     std::vector<Worker> workers_;
@@ -328,10 +267,7 @@ private:
     Refusal refusal_;
 };
 
-WorkerPool::WorkerPool(SupervisedRun run) : supervisor_(std::make_unique<Supervisor>(std::move(run))) {
-    // A worker that dies leaves a broken pipe; that must not end the supervisor.
-    ::signal(SIGPIPE, SIG_IGN);
-}
+WorkerPool::WorkerPool(SupervisedRun run) : supervisor_(std::make_unique<Supervisor>(std::move(run))) {}
 
 WorkerPool::~WorkerPool() = default;
 

@@ -1,8 +1,13 @@
 #include "WorldWorker.h"
 
+#ifdef _WIN32
+#include <io.h>
+#else
 #include <unistd.h>
+#endif
 
 #include <algorithm>
+#include <chrono>
 #include <cerrno>
 #include <csignal>
 #include <cstdlib>
@@ -12,9 +17,11 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <utility>
 
 #include "WorkerJob.h"
+#include "WorkerProcess.h"
 #include "library/LibraryFormat.h"
 #include "library/LibraryReader.h"
 #include "library/WorldRecordEncoder.h"
@@ -55,7 +62,7 @@ void fail_as_injected(const std::string& fault) {
     if (fault == "odemessage") return;
     // Finishing late, so that later worlds finish first: records must still come in world order.
     if (fault == "slow") {
-        ::usleep(500000);
+        std::this_thread::sleep_for(std::chrono::milliseconds(500));
         return;
     }
     // Text where a careless library would put it, mid-run: it must reach the log, not a record.
@@ -67,7 +74,7 @@ void fail_as_injected(const std::string& fault) {
     }
     if (fault == "segv") std::raise(SIGSEGV);
     if (fault == "hang")
-        for (;;) ::pause();
+        for (;;) std::this_thread::sleep_for(std::chrono::hours(1));
 }
 
 // The "odemessage" fault: ODE's own message function called as quickstep calls it, half a second
@@ -80,9 +87,12 @@ WorldResult with_injected_messages(WorldResult world, const std::string& fault) 
     return world;
 }
 
+// The worker's two channels (WorkerProcess.h), taken once as it starts.
+WorkerChannels g_channels;
+
 void write_all(const uint8_t* data, size_t size) {
     while (size > 0) {
-        const ssize_t n = ::write(kWorkerRecordsFd, data, size);
+        const auto n = ::write(g_channels.records_fd, data, static_cast<unsigned>(std::min<size_t>(size, 1u << 30)));
         if (n < 0 && errno == EINTR) continue;
         if (n <= 0) std::_Exit(3);  // the supervisor is gone: nothing left to do
         data += n;
@@ -92,31 +102,27 @@ void write_all(const uint8_t* data, size_t size) {
 
 void put_u32(uint8_t* out, uint32_t v) { std::memcpy(out, &v, 4); }
 
-// The jobs the supervisor sends on kWorkerJobsFd, a line at a time.
+// The jobs the supervisor sends, a line at a time.
 class JobLines {
 public:
-    JobLines() : in_(::fdopen(kWorkerJobsFd, "r")) {
-        if (!in_) throw std::runtime_error("a worker runs only under the engine's supervisor (no job channel)");
-    }
-    ~JobLines() {
-        std::free(buffer_);
-        std::fclose(in_);
-    }
-    JobLines(const JobLines&) = delete;
-    JobLines& operator=(const JobLines&) = delete;
-
     bool next(std::string& line) {
-        const ssize_t n = ::getline(&buffer_, &capacity_, in_);
-        if (n <= 0) return false;
-        line.assign(buffer_, static_cast<size_t>(n));
-        if (!line.empty() && line.back() == '\n') line.pop_back();
-        return true;
+        for (;;) {
+            const size_t end = pending_.find('\n');
+            if (end != std::string::npos) {
+                line = pending_.substr(0, end);
+                pending_.erase(0, end + 1);
+                return true;
+            }
+            char chunk[4096];
+            const auto n = ::read(g_channels.jobs_fd, chunk, sizeof chunk);
+            if (n < 0 && errno == EINTR) continue;
+            if (n <= 0) return false;  // the supervisor closed the channel: no more jobs
+            pending_.append(chunk, static_cast<size_t>(n));
+        }
     }
 
 private:
-    std::FILE* in_;
-    char* buffer_ = nullptr;
-    size_t capacity_ = 0;
+    std::string pending_;
 };
 
 void send_record(uint64_t world_index, uint32_t type, uint32_t version, const std::vector<uint8_t>& payload) {
@@ -227,6 +233,8 @@ int run_library_worker(const EngineOptions& options, const std::map<uint64_t, st
 int run_world_worker(const EngineOptions& options) {
     // Ctrl-C reaches the whole process group; cancelling is the supervisor's decision.
     std::signal(SIGINT, SIG_IGN);
+    g_channels = take_worker_channels();
+    end_worker_quietly_on_faults();
     const std::map<uint64_t, std::string> faults = injected_faults();
     if (!options.library_path.empty()) return run_library_worker(options, faults);
     const Scene scene = load_scene_file(options.scene_path);

@@ -32,13 +32,9 @@ constexpr uint32_t kWorkerLineageReady = 0xFFFFFFFEu;
 /// it stepped; the payload is encode_ode_messages (sim/OdeMessages.h).
 constexpr uint32_t kWorkerOdeMessages = 0xFFFFFFFDu;
 
-/// The descriptors a worker process is handed by its supervisor: jobs come in on one, records go
-/// out on the other. Standard output is not used: ODE and the C library print there.
-constexpr int kWorkerJobsFd = 3;
-constexpr int kWorkerRecordsFd = 4;
-
-/// Reads jobs (engine/WorkerJob.h), one per line, on kWorkerJobsFd until it ends; simulates each
-/// and writes its record to kWorkerRecordsFd as a WorkerRecordHeader followed by the payload.
+/// Reads jobs (engine/WorkerJob.h), one per line, on its job channel (WorkerProcess.h) until it
+/// ends; simulates each and writes its record to the record channel as a WorkerRecordHeader
+/// followed by the payload.
 /// With options.library_path the run is that library's (sampled worlds and refined children);
 /// otherwise it is the sampling run of `options` (scene, seed, parameters, bounds), sampled
 /// worlds only. Returns the exit code.

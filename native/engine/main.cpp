@@ -14,21 +14,16 @@
 #include <nlohmann/json.hpp>
 
 #include <omp.h>
-#ifndef _WIN32
-#include <sys/stat.h>
-#include <unistd.h>
 #ifdef __GLIBC__
 #include <malloc.h>
-#endif
 #endif
 
 #include "EngineEvents.h"
 #include "EngineOptions.h"
 #include "RunWords.h"
-#ifndef _WIN32
 #include "SupervisedSampler.h"
+#include "WorkerProcess.h"
 #include "WorldWorker.h"
-#endif
 #include "common/BuildInfo.h"
 #include "common/EngineProtocol.h"
 #include "library/ByteIO.h"
@@ -54,46 +49,17 @@ void request_cancel(int) { g_progress.cancel.store(true); }
 // How the engine was started (argv[0]), for finding itself without /proc.
 std::string g_invoked_as;
 
-#ifndef _WIN32
-bool is_executable_file(const std::string& path) {
-    struct stat st {};
-    return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) && ::access(path.c_str(), X_OK) == 0;
-}
-
-// The engine executable itself, for its worker processes: /proc/self/exe, else argv[0] as a
-// path or looked up on PATH as the shell did (a chroot without /proc). Empty when neither works.
-std::string own_executable() {
-    char path[4096];
-    const ssize_t n = ::readlink("/proc/self/exe", path, sizeof path - 1);
-    if (n > 0) return std::string(path, static_cast<size_t>(n));
-    if (g_invoked_as.find('/') != std::string::npos)
-        return is_executable_file(g_invoked_as) ? g_invoked_as : std::string();
-    const char* search = std::getenv("PATH");
-    std::istringstream dirs(search ? search : "");
-    for (std::string dir; std::getline(dirs, dir, ':');) {
-        const std::string candidate = (dir.empty() ? "." : dir) + "/" + g_invoked_as;
-        if (!g_invoked_as.empty() && is_executable_file(candidate)) return candidate;
-    }
-    return {};
-}
-
-#endif
-
 // The engine executable the worker processes run, or empty when the worlds are simulated in this
-// process instead (a world that crashes ODE then ends the run): with --in-process, on Windows
-// (worker processes need fork), and, after one warning, when the executable cannot be found.
+// process instead (a world that crashes ODE then ends the run): with --in-process, and, after one
+// warning, when the executable cannot be found.
 std::string executable_for_workers(const EngineOptions& options, EngineEvents& events) {
-#ifdef _WIN32
-    return {};
-#else
     if (options.in_process) return {};
-    std::string path = own_executable();
+    std::string path = engine_executable(g_invoked_as);
     if (path.empty())
         events.warning(EngineWarningCode::InProcess,
                        "cannot find the engine executable (no /proc, and '" + g_invoked_as +
                            "' is not on PATH): worlds are simulated in this process, where one that crashes ODE ends the run");
     return path;
-#endif
 }
 
 // Ctrl-C, or "cancel" on stdin for a program (EngineProtocol.h): finish the record being
@@ -106,19 +72,15 @@ void listen_for_cancel(const EngineOptions& options) {
 
 // Where a refinement's or a search's worlds are simulated: each in a supervised worker process
 // reading the library, so that one that crashes ODE is rejected and the rest go on; with
-// --in-process (and on Windows) on this process's threads.
+// --in-process on this process's threads.
 std::unique_ptr<WorldMaker> world_maker(const EngineOptions& options, uint64_t base_seed, size_t cache_bytes,
                                         EngineEvents& events) {
     const std::string engine = executable_for_workers(options, events);
     if (engine.empty()) return std::make_unique<InProcessWorlds>(options.threads, cache_bytes);
-#ifndef _WIN32
     const int workers = options.threads > 0 ? options.threads : omp_get_max_threads();
     SupervisedRun run{engine, {"worker", "--library", options.library_path, "--threads", std::to_string(workers)},
                       workers, base_seed, options.world_time_limit_s};
     return std::make_unique<SupervisedWorlds>(std::move(run));
-#else
-    return nullptr;
-#endif
 }
 
 // One warning per kind of message ODE gave while the command's worlds stepped.
@@ -171,13 +133,11 @@ int run_sample(const EngineOptions& options, [[maybe_unused]] const std::vector<
             },
             &g_progress, options.share_prefix);
     } else {
-#ifndef _WIN32
         // Each world in a worker process: a world that crashes ODE is rejected, the run goes on.
         SupervisedRun run{engine, args, options.threads > 0 ? options.threads : omp_get_max_threads(),
                           options.base_seed, options.world_time_limit_s};
         run.worker_args[0] = "worker";
         stats = sample_supervised(run, todo, writer, report, g_progress.cancel);
-#endif
     }
     const bool cancelled = g_progress.cancel;
     std::ostringstream text;
@@ -398,11 +358,7 @@ int run_validate(const EngineOptions& options, EngineEvents& events) {
 
 int run(const EngineOptions& options, const std::vector<std::string>& args, EngineEvents& events) {
     if (options.command == "sample") return run_sample(options, args, events);
-#ifdef _WIN32
-    if (options.command == "worker") throw UsageError("worker processes are not available on Windows");
-#else
     if (options.command == "worker") return run_world_worker(options);
-#endif
     if (options.command == "refine") return run_refine(options, events);
     if (options.command == "seek") return run_seek(options, events);
     if (options.command == "info") return run_info(options, events);

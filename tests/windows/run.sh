@@ -4,7 +4,7 @@
 # in build-windows/), then under wine64:
 #   - the GoogleTest programs of the core (every test but those named in WINDOWS_EXCLUDED below);
 #   - `mwb-engine.exe sample` (resumed once) and `refine` on a scene with every shape kind and
-#     joints, whose library must hold byte for byte the worlds the Linux engine makes with the same
+#     joints, in supervised worker processes, and again with faults injected into some worlds, whose library must hold byte for byte the worlds the Linux engine makes with the same
 #     seeds (compare_libraries.py: all but the engine build each file records), and which the
 #     Linux engine reads and merges.
 # Installs mingw-w64, g++-mingw-w64-x86-64-posix, libz-mingw-w64-dev and wine64 when root and
@@ -85,6 +85,29 @@ win refine --library windows.mwb --world 3 --bodies 2,3 --time 0.5 --count 3 --t
 "$LINUX_ENGINE" merge linux-merged.mwb linux.mwb > /dev/null
 python3 "$ROOT/tests/windows/compare_libraries.py" windows-merged.mwb linux-merged.mwb ||
     { echo "FAIL: the worlds sampled on Windows differ from Linux's (are both engines built from the same sources?)"; exit 1; }
+
+# Worlds that abort, fault, print where ODE prints, or hang, each in its own worker: on Windows as
+# on Linux each is a rejection naming the fault, and the library is the same file.
+FAULTS="3:abort,5:segv,7:print,9:hang,14:segv"
+MWB_ENGINE_TEST_FAULTS=$FAULTS win sample --scene "$SCENE" --worlds 0:12 --threads 2 --world-time-limit 5 \
+    --out windows-faults.mwb > windows-faults.log 2>&1
+MWB_ENGINE_TEST_FAULTS=$FAULTS win refine --library windows-faults.mwb --world 2 --bodies 2,3 --time 0.5 --count 4 \
+    --threads 2 >> windows-faults.log 2>&1
+MWB_ENGINE_TEST_FAULTS=$FAULTS "$LINUX_ENGINE" sample --scene "$SCENE" --worlds 0:12 --threads 1 --world-time-limit 5 \
+    --out linux-faults.mwb > /dev/null 2>&1
+MWB_ENGINE_TEST_FAULTS=$FAULTS "$LINUX_ENGINE" refine --library linux-faults.mwb --world 2 --bodies 2,3 --time 0.5 \
+    --count 4 --threads 1 > /dev/null 2>&1
+grep -q "Polygon 0 is not defined counterclockwise" windows-faults.log ||
+    { echo "FAIL: a worker's print did not reach the log"; cat windows-faults.log; exit 1; }
+# The hang is the third rejection; its words are checked by the comparison with Linux's file below.
+for reason in "signal 6, Aborted" "signal 11, Segmentation fault" "3 rejected"; do
+    grep -q "$reason" windows-faults.log ||
+        { echo "FAIL: no world rejected for \"$reason\" under wine:"; cat windows-faults.log; exit 1; }
+done
+"$LINUX_ENGINE" merge windows-faults-merged.mwb windows-faults.mwb > /dev/null
+"$LINUX_ENGINE" merge linux-faults-merged.mwb linux-faults.mwb > /dev/null
+python3 "$ROOT/tests/windows/compare_libraries.py" windows-faults-merged.mwb linux-faults-merged.mwb ||
+    { echo "FAIL: the supervised run with faults differs between Windows and Linux"; exit 1; }
 [ "$failed" -eq 0 ] || { echo "FAIL: $failed of 5 Windows test programs failed (above)"; exit 1; }
 echo "windows-cross: $passed native tests passed under wine; mwb-engine.exe sampled and refined 15 worlds," \
-     "the same bytes as on Linux"
+     "and 16 with aborts, faults, prints and a hang in its workers, the same bytes as on Linux"
