@@ -48,8 +48,11 @@ def test_an_empty_command_is_refused_naming_the_variable(tmp_path, monkeypatch):
         engine_process.EngineRun(engine_process.InfoRequest(str(tmp_path / "any.mwb")))
 
 
-def test_a_command_whose_program_is_missing_is_refused_naming_it(tmp_path, monkeypatch):
+def test_a_command_whose_program_is_missing_or_whose_quotes_are_open_is_refused(tmp_path, monkeypatch):
     missing = tmp_path / "wine-not-here"
     monkeypatch.setenv("MWB_ENGINE_COMMAND", f"{missing} mwb-engine.exe")
     with pytest.raises(FileNotFoundError, match=f"MWB_ENGINE_COMMAND: the program '{missing}' is not found"):
+        paths.engine_command()
+    monkeypatch.setenv("MWB_ENGINE_COMMAND", "wine64 'C:\\engine\\mwb-engine.exe")
+    with pytest.raises(FileNotFoundError, match="MWB_ENGINE_COMMAND cannot be split into words: No closing quotation"):
         paths.engine_command()

@@ -109,5 +109,7 @@ done
 python3 "$ROOT/tests/windows/compare_libraries.py" windows-faults-merged.mwb linux-faults-merged.mwb ||
     { echo "FAIL: the supervised run with faults differs between Windows and Linux"; exit 1; }
 [ "$failed" -eq 0 ] || { echo "FAIL: $failed of 5 Windows test programs failed (above)"; exit 1; }
+# The add-on's command line driving the Windows engine over the typed protocol, cancel included.
+MWB_WINDOWS_BUILD=$BUILD sh "$ROOT/tests/windows/cli_under_wine.sh" "$LINUX_ENGINE"
 echo "windows-cross: $passed native tests passed under wine; mwb-engine.exe sampled and refined 15 worlds," \
      "and 16 with aborts, faults, prints and a hang in its workers, the same bytes as on Linux"

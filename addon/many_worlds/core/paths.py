@@ -28,13 +28,17 @@ def engine_path():
 
 def engine_command():
     """The start of the command line that runs the engine, as a list: $MWB_ENGINE_COMMAND split as
-    a POSIX shell would (a program that runs the engine, such as 'wine64 /path/mwb-engine.exe'),
-    else [engine_path()]. Raises FileNotFoundError for an empty $MWB_ENGINE_COMMAND or one whose
-    program is not found."""
+    a POSIX shell would (a program that runs the engine, such as 'wine64 /path/mwb-engine.exe';
+    a Windows path's backslashes need single quotes), else [engine_path()]. Raises
+    FileNotFoundError for an empty or unbalanced $MWB_ENGINE_COMMAND, or one whose program is not
+    found (what a caller reports as no engine)."""
     command = os.environ.get("MWB_ENGINE_COMMAND")
     if command is None:
         return [engine_path()]
-    argv = shlex.split(command)
+    try:
+        argv = shlex.split(command)
+    except ValueError as error:
+        raise FileNotFoundError(f"MWB_ENGINE_COMMAND cannot be split into words: {error}")
     if not argv:
         raise FileNotFoundError("MWB_ENGINE_COMMAND is set but empty: give the command that runs mwb-engine "
                                 "(or unset it to run the add-on's own engine)")
