@@ -3,6 +3,12 @@
 
 namespace py = pybind11;
 
+#ifdef _WIN32
+// A Windows CPython's pyconfig.h takes pointers to be 4 bytes unless MS_WIN64 is defined, which
+// it does only for MSVC: a module built otherwise would misread every object.
+static_assert(SIZEOF_VOID_P == 8 && sizeof(void*) == 8, "build the Windows module with -DMS_WIN64");
+#endif
+
 namespace mwb::python {
 void bind_scene(py::module_& m);
 void bind_sampler(py::module_& m);

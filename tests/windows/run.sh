@@ -1,7 +1,8 @@
 #!/bin/sh
-# The Windows cross test (CTest label windows-cross): ODE, the core, the engine and the native tests
-# cross-compiled for 64-bit Windows with MinGW-w64 (native/release/windows/build_windows.sh, cached
-# in build-windows/), then under wine64:
+# The Windows cross test (CTest label windows-cross): ODE, the core, the engine, the module for
+# Python 3.11 and 3.13 and the native tests cross-compiled for 64-bit Windows with MinGW-w64
+# (native/release/windows/build_windows.sh, cached in build-windows/); the modules' import and
+# export tables checked (check_module_imports.py); then under wine64:
 #   - the GoogleTest programs of the core (every test but those named in WINDOWS_EXCLUDED below);
 #   - `mwb-engine.exe sample` (resumed once) and `refine` on a scene with every shape kind and
 #     joints, in supervised worker processes, and again with faults injected into some worlds, whose library must hold byte for byte the worlds the Linux engine makes with the same
@@ -45,6 +46,19 @@ fi
 WINE=$(find_wine)
 
 sh "$ROOT/native/release/windows/build_windows.sh" "$BUILD"
+
+# The modules, read from their import and export tables (no Windows Python can be run here): each
+# exports PyInit__native and takes from python3XX.dll only what that version's headers declare.
+# The check must also tell the versions apart: 3.13's module needs names 3.11 does not have.
+for tag in 311 313; do
+    python3 "$ROOT/tests/windows/check_module_imports.py" "$BUILD/modules/_native.cp$tag-win_amd64.pyd" \
+        "$BUILD/python-headers/python3.${tag#3}/python$tag.def" || exit 1
+done
+if python3 "$ROOT/tests/windows/check_module_imports.py" "$BUILD/modules/_native.cp313-win_amd64.pyd" \
+    "$BUILD/python-headers/python3.11/python311.def" > /dev/null; then
+    echo "FAIL: the import check takes the 3.13 module for one 3.11 could load"
+    exit 1
+fi
 
 # A wine prefix of our own, kept with the build (making one takes seconds); wine's messages off.
 export WINEPREFIX="$BUILD/wine-prefix" WINEDEBUG=-all

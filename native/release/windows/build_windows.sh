@@ -2,6 +2,8 @@
 # Cross-compiles ODE, libccd, the core, the engine and the native tests for 64-bit Windows with
 # Debian's MinGW-w64 (native/release/windows/toolchain-mingw64.cmake), into build-windows/:
 #   build-windows/native/mwb-engine.exe        needs only Windows' own DLLs
+#   build-windows/modules/_native.cp3XX-win_amd64.pyd   the module for Python 3.11 and 3.13:
+#                                              Windows' own DLLs and python3XX.dll only
 #   build-windows/tests/mwb_*_tests.exe        the GoogleTest programs of the core
 # The build folder is kept, so a second run only rebuilds what changed. Under the build lock, as
 # every build of this checkout. Needs the packages mingw-w64, g++-mingw-w64-x86-64-posix and
@@ -15,13 +17,16 @@ ODE_SOURCE=${MWB_ODE_SOURCE_DIR:-$ROOT/build/ode-source}
 mkdir -p "$BUILD"
 [ -f "$ODE_SOURCE/ode_0.16.2.orig.tar.gz" ] || sh "$ROOT/native/ode/fetch_ode_source.sh" "$ODE_SOURCE"
 
-if [ ! -f "$BUILD/CMakeCache.txt" ]; then
-    flock /tmp/mwb-build.lock cmake -S "$ROOT" -B "$BUILD" -DCMAKE_TOOLCHAIN_FILE="$HERE/toolchain-mingw64.cmake" \
-        -DCMAKE_BUILD_TYPE=Release -DMWB_BUILD_PYTHON=OFF -DMWB_ADDON_ENGINE_DIR= \
-        -Dnlohmann_json_DIR="$HERE/nlohmann_json" -DMWB_ODE_SOURCE_DIR="$ODE_SOURCE" \
-        > "$BUILD/configure.log" 2>&1 || { tail -n 30 "$BUILD/configure.log"; exit 1; }
-fi
-flock /tmp/mwb-build.lock cmake --build "$BUILD" -j"$(nproc)" --target mwb-engine \
+sh "$HERE/fetch_windows_python.sh" "$BUILD/python-headers"
+
+flock /tmp/mwb-build.lock cmake -S "$ROOT" -B "$BUILD" -DCMAKE_TOOLCHAIN_FILE="$HERE/toolchain-mingw64.cmake" \
+    -DCMAKE_BUILD_TYPE=Release -DMWB_ADDON_ENGINE_DIR= \
+    -Dnlohmann_json_DIR="$HERE/nlohmann_json" -DMWB_ODE_SOURCE_DIR="$ODE_SOURCE" \
+    -DMWB_BUILD_PYTHON=ON -DMWB_PYTHON_HEADERS="$BUILD/python-headers" -DMWB_PYTHON_VERSIONS="3.11;3.13" \
+    -DMWB_MODULE_OUTPUT_DIR="$BUILD/modules" \
+    > "$BUILD/configure.log" 2>&1 || { tail -n 30 "$BUILD/configure.log"; exit 1; }
+flock /tmp/mwb-build.lock cmake --build "$BUILD" -j"$(nproc)" --target mwb-engine _native_py311 _native_py313 \
     mwb_scene_tests mwb_codec_tests mwb_sim_tests mwb_library_tests mwb_query_tests \
     > "$BUILD/build.log" 2>&1 || { tail -n 40 "$BUILD/build.log"; exit 1; }
-echo "Windows binaries in $BUILD: native/mwb-engine.exe, tests/mwb_*_tests.exe"
+echo "Windows binaries in $BUILD: native/mwb-engine.exe, modules/_native.cp311-win_amd64.pyd and" \
+     "_native.cp313-win_amd64.pyd, tests/mwb_*_tests.exe"
