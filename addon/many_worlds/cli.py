@@ -157,7 +157,7 @@ def follow_engine(request, progress_words, json_summary=False, poll_s=0.1):
     Ctrl-C asks it to stop (it keeps every finished world and exits with EngineExit.CANCELLED).
     Returns the exit status; raises CliError with the engine's own message when it fails."""
     try:
-        run = engine.EngineRun(request)
+        run = engine.EngineProcess(request)
     except FileNotFoundError as error:
         raise CliError(str(error))
     previous = signal.signal(signal.SIGINT, lambda *_: run.cancel())

@@ -50,7 +50,7 @@ def boxes_met(world):
 
 def seek_and_follow(want, budget_worlds, timeout_s=300):
     """Press Seek and pump the poller to the end, keeping every panel line and selected world seen.
-    Returns (EngineRun, [(status, selected world)])."""
+    Returns (EngineProcess, [(status, selected world)])."""
     settings = bpy.context.scene.mwb
     settings.seek_want, settings.seek_budget_worlds, settings.threads = want, budget_worlds, 2
     assert bpy.ops.mwb.seek() == {"FINISHED"}

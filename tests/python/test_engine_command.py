@@ -45,7 +45,7 @@ def test_an_empty_command_is_refused_naming_the_variable(tmp_path, monkeypatch):
     with pytest.raises(FileNotFoundError, match="MWB_ENGINE_COMMAND is set but empty"):
         paths.engine_command()
     with pytest.raises(FileNotFoundError, match="MWB_ENGINE_COMMAND is set but empty"):
-        engine_process.EngineRun(engine_process.InfoRequest(str(tmp_path / "any.mwb")))
+        engine_process.EngineProcess(engine_process.InfoRequest(str(tmp_path / "any.mwb")))
 
 
 def test_a_command_whose_program_is_missing_or_whose_quotes_are_open_is_refused(tmp_path, monkeypatch):

@@ -32,7 +32,7 @@ def event_lines(engine, *args):
 
 def test_every_event_the_engine_can_write_has_a_reader():
     protocol = engine_process.PROTOCOL
-    assert set(engine_process.EngineRun.EVENT_READERS) == set(protocol.EVENTS)
+    assert set(engine_process.EngineProcess.EVENT_READERS) == set(protocol.EVENTS)
     assert engine_process.OTHER_RUN in protocol.ERROR_CODES
     assert protocol.VERSION >= 1
 
@@ -140,7 +140,7 @@ def test_failures_carry_a_code_and_the_problems(engine, tmp_path):
 
 def test_cancel_on_stdin_stops_the_run_and_keeps_its_worlds(native, engine, tmp_path):
     library = tmp_path / "cancelled.mwb"
-    started = engine_process.EngineRun(sample_request(library, count=400), engine)
+    started = engine_process.EngineProcess(sample_request(library, count=400), engine)
     while started.progress()[0] < 3 and not started.finished():
         time.sleep(0.01)
     started.cancel()
@@ -152,7 +152,7 @@ def test_cancel_on_stdin_stops_the_run_and_keeps_its_worlds(native, engine, tmp_
 
 def test_an_engine_that_dies_without_an_error_event_is_reported_as_a_crash(engine, tmp_path):
     library = tmp_path / "killed.mwb"
-    started = engine_process.EngineRun(sample_request(library, count=400), engine)
+    started = engine_process.EngineProcess(sample_request(library, count=400), engine)
     while started.progress()[0] < 2 and not started.finished():
         time.sleep(0.01)
     os.kill(started.pid, signal.SIGKILL)
@@ -181,7 +181,7 @@ def test_workers_restarted_mid_run_do_not_hang_a_run_that_listens_for_cancel(nat
     stdio would hold a lock fork() waits for, and the run would hang at the first crash."""
     monkeypatch.setenv("MWB_ENGINE_TEST_FAULTS", "4:abort,9:segv,15:abort")
     library = tmp_path / "faults.mwb"
-    started = engine_process.EngineRun(sample_request(library, count=24), engine)
+    started = engine_process.EngineProcess(sample_request(library, count=24), engine)
     try:
         assert started.wait(120) == int(engine_process.EngineExit.OK)
     finally:

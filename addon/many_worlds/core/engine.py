@@ -233,7 +233,7 @@ class _RunState:
     log: list = field(default_factory=list)
 
 
-class EngineRun:
+class EngineProcess:
     """One running `mwb-engine` child started from a request. Thread-safe to poll from the UI
     thread. `engine`: the executable (when None, paths.engine_command(): the add-on's own, or
     what $MWB_ENGINE_COMMAND says)."""
@@ -389,7 +389,7 @@ class EngineRun:
 
 
 def run_to_end(request, engine=None):
-    """Run a short command (info) to its end. Returns the finished EngineRun."""
-    run = EngineRun(request, engine)
+    """Run a short command (info) to its end. Returns the finished EngineProcess."""
+    run = EngineProcess(request, engine)
     run.wait()
     return run

@@ -1,6 +1,6 @@
 """One engine run the add-on started: sampling, a refinement, a change of objects, a seek.
 
-A Run owns its engine process (core.engine.EngineRun), says what it does (its kind), where it
+A Run owns its engine process (core.engine.EngineProcess), says what it does (its kind), where it
 writes, how far it got and how it ended; the poller (operators.run_poller) streams its worlds and
 turns its progress into the panel's line. Nothing here needs bpy, fork or POSIX signals: a run is
 cancelled through the engine protocol.
@@ -46,7 +46,7 @@ class Run:
         self.world_range = world_range
         self.follower = follower
         self.ended = False   # set once the poller has read its end
-        self.process = engine_process.EngineRun(request, engine)
+        self.process = engine_process.EngineProcess(request, engine)
 
     @property
     def label(self):
