@@ -2,7 +2,9 @@
 # The Windows cross test (CTest label windows-cross): ODE, the core, the engine, the module for
 # Python 3.11 and 3.13 and the native tests cross-compiled for 64-bit Windows with MinGW-w64
 # (native/release/windows/build_windows.sh, cached in build-windows/); the modules' import and
-# export tables checked (check_module_imports.py); then under wine64:
+# export tables checked (check_module_imports.py); the windows-x64 extension zip built from the
+# stripped copies in build-windows/dist, checked and validated by Blender 4.3 (extension_zip.sh,
+# in the Debian 13 chroot when root); then under wine64:
 #   - the GoogleTest programs of the core (every test but those named in WINDOWS_EXCLUDED below);
 #   - `mwb-engine.exe sample` (resumed once) and `refine` on a scene with every shape kind and
 #     joints, in supervised worker processes, and again with faults injected into some worlds, whose library must hold byte for byte the worlds the Linux engine makes with the same
@@ -59,6 +61,9 @@ if python3 "$ROOT/tests/windows/check_module_imports.py" "$BUILD/modules/_native
     echo "FAIL: the import check takes the 3.13 module for one 3.11 could load"
     exit 1
 fi
+# The windows-x64 extension zip from the stripped binaries in $BUILD/dist: reproducible, what it
+# holds, and Blender 4.3's `extension validate` in the Debian 13 chroot.
+MWB_WINDOWS_BUILD=$BUILD sh "$ROOT/tests/windows/extension_zip.sh"
 
 # A wine prefix of our own, kept with the build (making one takes seconds); wine's messages off.
 export WINEPREFIX="$BUILD/wine-prefix" WINEDEBUG=-all
@@ -88,7 +93,8 @@ for suite in scene codec sim library query; do
 done
 # On Windows two threads, a run resumed in the same file and a refinement; on Linux one run of
 # each. The Linux engine's merge writes each file's worlds in index order, so the two compare.
-win() { "$WINE" "$BUILD/native/mwb-engine.exe" "$@"; }
+# The engine is the one the zip ships (stripped, in dist/).
+win() { "$WINE" "$BUILD/dist/bin/mwb-engine.exe" "$@"; }
 win sample --scene "$SCENE" --worlds 0:6 --threads 2 --out windows.mwb
 win sample --scene "$SCENE" --worlds 0:12 --threads 2 --out windows.mwb
 win refine --library windows.mwb --world 3 --bodies 2,3 --time 0.5 --count 3 --threads 2
