@@ -17,6 +17,10 @@ std::string with_commas(uint64_t n) {
     return out;
 }
 
+std::string worlds_done_text(const char* verb, uint64_t done, uint64_t total) {
+    return std::string(verb) + " " + std::to_string(done) + "/" + std::to_string(total) + " worlds";
+}
+
 std::string parts_text(uint64_t count) {
     return count == 1 ? "1 part" : with_commas(count) + " parts";
 }

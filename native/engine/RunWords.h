@@ -1,6 +1,7 @@
 // What a person reads about a run: the engine's lines for the terminal, and the `text` of its
-// progress and summary events, which the add-on and its command line show as they are. Every
-// sentence about how a run went is worded here, once.
+// progress and summary events, which the add-on and its command line show as they are. The
+// pieces every command's lines share (progress, rejections, counts) and a seek's whole lines are
+// worded here, once; each command's summary (main.cpp) is built from them.
 #pragma once
 
 #include <cstdint>
@@ -13,6 +14,9 @@ namespace mwb {
 
 /// 1234567 -> "1,234,567".
 std::string with_commas(uint64_t n);
+
+/// "sampled 3/10 worlds": a sampling or a refinement's progress (`verb`: "sampled", "refined").
+std::string worlds_done_text(const char* verb, uint64_t done, uint64_t total);
 
 /// "1 part", "6 parts": a goal's parts, boxes and poses together.
 std::string parts_text(uint64_t count);

@@ -1,7 +1,6 @@
 #include "SupervisedSampler.h"
 
 #include <algorithm>
-#include <cerrno>
 #include <chrono>
 #include <cstring>
 #include <optional>

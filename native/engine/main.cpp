@@ -92,10 +92,6 @@ int exit_status(bool cancelled) {
     return static_cast<int>(cancelled ? EngineExit::Cancelled : EngineExit::Ok);
 }
 
-std::string worlds_done_text(const char* verb, uint64_t done, uint64_t total) {
-    return std::string(verb) + " " + std::to_string(done) + "/" + std::to_string(total) + " worlds";
-}
-
 int run_sample(const EngineOptions& options, [[maybe_unused]] const std::vector<std::string>& args,
                EngineEvents& events) {
     // The scene is parsed once here; the header, the writer and the simulation share it.

@@ -20,6 +20,11 @@ SeekOutcome seek_outcome(bool reached, std::vector<uint64_t> found, uint64_t bes
     return o;
 }
 
+TEST(RunWords, SamplingProgressCountsTheWorldsDone) {
+    EXPECT_EQ(worlds_done_text("sampled", 3, 10), "sampled 3/10 worlds");
+    EXPECT_EQ(worlds_done_text("refined", 8, 8), "refined 8/8 worlds");
+}
+
 TEST(RunWords, ProgressNamesTheBestWorldAndCountsWithCommas) {
     SeekStatus s;
     s.best_boxes_met = 5;
