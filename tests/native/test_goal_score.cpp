@@ -460,6 +460,44 @@ TEST(GoalScore, APosePartOverSeveralBodiesIsNearerTheFewerOfThemAreOff) {
     EXPECT_NEAR(five.closeness, single.closeness, 1e-12);
 }
 
+TEST(GoalScore, APoseCountsOnlyOnceItsBodyHasMetItsBox) {
+    // Two letters, each to end in its own slot (x in [0, 1] and [4, 5]) and upright, over the last
+    // second. Letter 1 stopped beside its slot: upright there or lying there, it has its slot still
+    // to reach, and the refinement that takes it there re-runs its pose.
+    QueryBox first_slot = box(0, 1, 0, 1, {0}), second_slot = box(4, 5, 0, 1, {1});
+    first_slot.window = second_slot.window = {3, 4};
+    const std::vector<QueryBox> goal{first_slot, second_slot, upright({0}, 20, {3, 4}), upright({1}, 20, {3, 4})};
+    const std::vector<double> radii{0.1, 0.1};
+    const PathTree in_first = path_through({{0.5, 3}, {0.5, 0.5}, {0.5, 0.5}, {0.5, 0.5}, {0.5, 0.5}});
+    const PathTree beside_second = path_through({{4.5, 3}, {3, 0.5}, {3, 0.5}, {3, 0.5}, {3, 0.5}});
+    const PathTree in_second = path_through({{4.5, 3}, {4.5, 0.5}, {4.5, 0.5}, {4.5, 0.5}, {4.5, 0.5}});
+    const std::vector<Quat> up = turning_about_x(in_first.point_count(), 0, 0, 1);
+    const std::vector<Quat> lying = turning_about_x(in_first.point_count(), 0, 90, 1);
+    const BodyOrientations upright_beside{up, up}, lying_beside{up, lying};
+    const GoalScore standing = score_goal({in_first, beside_second}, radii, goal, goal_order(goal), true, &upright_beside);
+    const GoalScore fallen = score_goal({in_first, beside_second}, radii, goal, goal_order(goal), true, &lying_beside);
+    // Met as a query counts every part; the search counts letter 1's pose only in its slot.
+    EXPECT_EQ(standing.boxes_met, 3u);
+    EXPECT_EQ(fallen.boxes_met, 2u);
+    EXPECT_EQ(standing.parts_before_violation, 2u);
+    EXPECT_NEAR(standing.value(), fallen.value(), 1e-12);
+    // Next for both is letter 1's slot, not its pose.
+    EXPECT_EQ(standing.first_unmet, 1);
+    EXPECT_EQ(fallen.first_unmet, 1);
+    for (const GoalScore::Miss& miss : fallen.misses) EXPECT_NE(miss.part, 3);
+    // In its slot but lying, it is a part further on, and its pose is what is next.
+    const GoalScore slotted = score_goal({in_first, in_second}, radii, goal, goal_order(goal), true, &lying_beside);
+    EXPECT_EQ(slotted.parts_before_violation, 3u);
+    EXPECT_EQ(slotted.first_unmet, 3);
+    EXPECT_GT(slotted.value(), standing.value());
+    // A pose whose window does not overlap the box's is a part of its own.
+    std::vector<QueryBox> early_pose = goal;
+    early_pose[3].window = {0, 0.5};
+    const GoalScore apart =
+        score_goal({in_first, beside_second}, radii, early_pose, goal_order(early_pose), true, &upright_beside);
+    EXPECT_EQ(apart.parts_before_violation, 3u);
+}
+
 TEST(GoalScore, WorldsBreakingANegativePoseTogetherAreToldApartByHowManyBodiesBreakIt) {
     // Eight pins that must all be down in the last second (none within 45° of up for longer than
     // 0.25 s). Those still standing broke it since the start; a world with one standing pin is

@@ -272,7 +272,27 @@ void score_orientation_miss(const std::vector<PathView>& paths, const BodyOrient
     score.failure_time_s = paths[worst_body].time_of(k);
 }
 
+// Whether a positive pose part holds only on condition that positive box `box` is met: they share
+// a body and their windows overlap. Until the box is met that body has still to get there, and the
+// refinement that takes it there re-runs its pose as well: a letter upright beside its slot is no
+// nearer to "upright in its slot" than one lying beside it.
+bool pose_waits_on(const QueryBox& pose, const QueryBox& box) {
+    if (!pose.orientation || pose.negative || box.orientation || box.negative) return false;
+    const bool overlap = pose.window.empty() || box.window.empty() ||
+                         (pose.window.lo_s <= box.window.hi_s && box.window.lo_s <= pose.window.hi_s);
+    if (!overlap) return false;
+    for (uint32_t body : pose.bodies)
+        if (std::find(box.bodies.begin(), box.bodies.end(), body) != box.bodies.end()) return true;
+    return false;
+}
+
 }  // namespace
+
+bool waits_on_missed_box(const std::vector<QueryBox>& boxes, const GoalScore& score, size_t part) {
+    for (size_t j = 0; j < boxes.size(); ++j)
+        if (j < score.met.size() && !score.met[j] && pose_waits_on(boxes[part], boxes[j])) return true;
+    return false;
+}
 
 std::array<long long, 3> GoalScore::search_key() const {
     const long long violated = std::isfinite(violation_time_s) ? std::llround(violation_time_s * 1000)
@@ -372,6 +392,13 @@ GoalScore score_goal(const std::vector<PathView>& paths, const std::vector<doubl
                                     std::move(miss.failing_bodies), miss.early_visit_s});
         }
     }
+    // A pose waiting on a missed box is worked on once the box is met: refined for its pose now, the
+    // body would be refined again for its box, and that re-runs the pose.
+    const auto waiting = [&](const GoalScore::Miss& miss) {
+        return waits_on_missed_box(boxes, score, static_cast<size_t>(miss.part));
+    };
+    if (!std::all_of(score.misses.begin(), score.misses.end(), waiting))
+        score.misses.erase(std::remove_if(score.misses.begin(), score.misses.end(), waiting), score.misses.end());
     // Nearest first; on a tie the first in goal order (the sort is stable).
     std::stable_sort(score.misses.begin(), score.misses.end(),
                      [](const GoalScore::Miss& a, const GoalScore::Miss& b) { return a.closeness > b.closeness; });
@@ -399,7 +426,8 @@ GoalScore score_goal(const std::vector<PathView>& paths, const std::vector<doubl
         const double decided = box.negative         ? -kInfinity
                                : box.orientation    ? (box.window.empty() ? kInfinity : box.window.hi_s)
                                                     : score.met_time_s[k];
-        if (decided < score.violation_time_s) ++score.parts_before_violation;
+        // A pose held beside its box is not yet worth a part (pose_waits_on).
+        if (decided < score.violation_time_s && !waits_on_missed_box(boxes, score, k)) ++score.parts_before_violation;
     }
     if (!with_closeness) return score;
     double horizon = 0;

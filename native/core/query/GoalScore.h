@@ -84,7 +84,8 @@ struct GoalScore {
     /// The parts met before that moment: the negative ones it meets, and the positive ones decided
     /// before it (a box when first met, an orientation part when its window closes). A search
     /// mending the violation branches before it and re-runs what came after, so only these can be
-    /// kept. boxes_met when no negative part is missed.
+    /// kept. Poses waiting on a missed box (waits_on_missed_box) are left out. boxes_met when no
+    /// negative part is missed and no pose waits.
     uint32_t parts_before_violation = 0;
     /// When that negative part is a pose part: how near it was to being kept (its closeness: the
     /// share of the window each body spent out of the pose, averaged), which tells apart worlds
@@ -101,6 +102,13 @@ struct GoalScore {
     /// Worlds with the same key are for the goal the same world; refining both would repeat work.
     std::array<long long, 3> search_key() const;
 };
+
+/// Whether part `part`, met or not, is a positive pose part sharing a body with a positive box the
+/// world misses over an overlapping window (a letter upright beside the slot it must end in). Such
+/// a pose counts towards the world's value only once the box is met, it is not the part to meet
+/// next while the box is missed, and a search need not keep it: the refinement that takes the body
+/// to its box re-runs its pose.
+bool waits_on_missed_box(const std::vector<QueryBox>& boxes, const GoalScore& score, size_t part);
 
 /// Scores one world given its body paths (one PathView per scene body, empty for bodies it lacks)
 /// and each body's bounding radius (for swept boxes). `order` is goal_order(boxes). Without

@@ -130,7 +130,7 @@ std::vector<Branch> BranchPlanner::worth_branching(const StoredWorld& w, const G
     std::set<uint32_t> kept;
     for (size_t k = 0; k < boxes_.size(); ++k) {
         const QueryBox& part = boxes_[k];
-        if (part.negative || k >= score.met.size() || !score.met[k]) continue;
+        if (part.negative || k >= score.met.size() || !score.met[k] || waits_on_missed_box(boxes_, score, k)) continue;
         for (uint32_t b : part.bodies)
             if (simulated(b) && !failing_set.count(b)) kept.insert(b);
     }
