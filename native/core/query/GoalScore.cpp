@@ -272,17 +272,6 @@ void score_orientation_miss(const std::vector<PathView>& paths, const BodyOrient
     score.failure_time_s = paths[worst_body].time_of(k);
 }
 
-// When the stay in `box` that body's path is in at `at` began (its last sample at or before `at`
-// being inside, back to the first of that run); -infinity if it is not in the box then.
-double stay_began(const PathView& path, const QueryBox& box, double radius, double at) {
-    size_t k = 0;
-    while (k + 1 < path.point_count() && path.time_of(k + 1) <= at) ++k;
-    const auto inside = [&](size_t i) { return box.frustum.touches_segment(path.point(i), path.point(i), 0, 1, radius); };
-    if (path.point_count() == 0 || !inside(k)) return -kInfinity;
-    while (k > 0 && inside(k - 1)) --k;
-    return path.time_of(k);
-}
-
 // Whether a positive pose part holds only on condition that positive box `box` is met: they share
 // a body and their windows overlap. Until the box is met that body has still to get there, and the
 // refinement that takes it there re-runs its pose as well: a letter upright beside its slot is no
@@ -410,23 +399,6 @@ GoalScore score_goal(const std::vector<PathView>& paths, const std::vector<doubl
     };
     if (!std::all_of(score.misses.begin(), score.misses.end(), waiting))
         score.misses.erase(std::remove_if(score.misses.begin(), score.misses.end(), waiting), score.misses.end());
-    // A pose whose box is met is mended after its bodies got into the box: branched before, they
-    // would set off for the box again.
-    for (GoalScore::Miss& miss : score.misses) {
-        const QueryBox& pose = boxes[static_cast<size_t>(miss.part)];
-        if (!pose.orientation || pose.negative) continue;
-        for (size_t j = 0; j < boxes.size(); ++j) {
-            if (!score.met[j] || !pose_waits_on(pose, boxes[j])) continue;
-            const QueryBox& box = boxes[j];
-            for (uint32_t body : miss.failing_bodies) {
-                if (std::find(box.bodies.begin(), box.bodies.end(), body) == box.bodies.end() || !has_path(paths, body))
-                    continue;
-                const double at = std::max(score.met_time_s[j], box.window.empty() ? -kInfinity : box.window.lo_s);
-                miss.in_box_since_s =
-                    std::max(miss.in_box_since_s, stay_began(paths[body], box, radius_of(box, body_radii_m, body), at));
-            }
-        }
-    }
     // Nearest first; on a tie the first in goal order (the sort is stable).
     std::stable_sort(score.misses.begin(), score.misses.end(),
                      [](const GoalScore::Miss& a, const GoalScore::Miss& b) { return a.closeness > b.closeness; });

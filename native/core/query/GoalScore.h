@@ -74,10 +74,6 @@ struct GoalScore {
         double closeness = 0, failure_time_s = 0, window_start_s = 0;
         std::vector<uint32_t> failing_bodies;
         double early_visit_s = std::numeric_limits<double>::infinity();
-        /// For a positive pose part whose bodies meet the box it waits on (waits_on_missed_box):
-        /// since when the bodies to blame have been in that box, the latest of them (seconds; 0
-        /// otherwise). A search mends the pose after this, or it would move them out of the box.
-        double in_box_since_s = 0;
     };
     std::vector<Miss> misses;
 

@@ -63,8 +63,6 @@ std::vector<Branch> BranchPlanner::branch_points(const StoredWorld& w, const Goa
         const bool too_slow = miss.failure_time_s > world_end - kRunningOutS;
         if (too_fast || too_slow) lower = 0.0;
     }
-    // A pose mended where its bodies already are: after they got into the box it waits on.
-    lower = std::max(lower, miss.in_box_since_s);
     double upper = std::min(miss.failure_time_s, world_end);
     if (!(upper > lower)) upper = world_end;
     std::vector<uint32_t> failing;
