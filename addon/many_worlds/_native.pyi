@@ -195,7 +195,7 @@ class GoalScore:
     first_unmet: int              # -1: every box is met
     closeness: float              # to the first unmet box, in [0, 1); broken worlds: how late they broke
     violation_time_s: float       # when it first entered a negative part it misses; inf if none
-    parts_before_violation: int   # parts met before that moment (boxes_met when there is none)
+    parts_before_violation: int   # parts met before that moment, poses waiting on a missed box left out (boxes_met when neither)
     value: float                  # parts_before_violation + closeness: what a search ranks by
     failure_time_s: float
     failing_bodies: List[int]

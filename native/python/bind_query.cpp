@@ -159,7 +159,7 @@ void bind_query(py::module_& m) {
         .def_readonly("violation_time_s", &GoalScore::violation_time_s,
                       "when it first entered a negative part it misses; inf if none")
         .def_readonly("parts_before_violation", &GoalScore::parts_before_violation,
-                      "parts met before that moment (boxes_met when there is none)")
+                      "parts met before that moment, poses waiting on a missed box left out (boxes_met when neither)")
         .def_property_readonly("value", &GoalScore::value, "parts_before_violation + closeness: what a search ranks by")
         .def_readonly("failure_time_s", &GoalScore::failure_time_s)
         .def_readonly("failing_bodies", &GoalScore::failing_bodies);
