@@ -4,6 +4,10 @@
 #   in_chroot DIR CMD...                   run CMD in DIR with a clean environment
 #   mount_checkout DIR ROOT                /proc and the checkout ROOT at its own path, in DIR
 #   unmount_checkout DIR ROOT
+#   work_in_checkout ROOT SUBDIR NAME      sets WORK to a new folder ROOT/SUBDIR/NAME.XXXXXX, which every
+#                                          chroot sees at its own path; at exit it is removed (kept
+#                                          with MWB_KEEP_WORK=1) and the chroot named in $mounted, if
+#                                          any, unmounted. Call it from the script itself, not a subshell.
 #   private_apt_dir APT                    make APT ready for apt_private (empty APT/sources)
 #   apt_private APT ARGS...                apt-get with sources, lists and cache under APT only
 # Needs root. Functions return non-zero with one line on stderr when something fails.
@@ -96,4 +100,20 @@ unmount_checkout() {
             umount "$_m" || umount -l "$_m"
         fi
     done
+}
+
+work_in_checkout() {
+    mkdir -p "$1/$2"
+    WORK=$(mktemp -d "$1/$2/$3.XXXXXX")
+    _work_root=$1
+    # Only the chroot this run mounted, under its lock, is unmounted: another test may be using
+    # another one.
+    mounted=""
+    trap '_leave_checkout_work' EXIT
+    trap 'exit 130' INT TERM
+}
+
+_leave_checkout_work() {
+    [ -z "$mounted" ] || unmount_checkout "$mounted" "$_work_root"
+    [ -n "${MWB_KEEP_WORK:-}" ] || rm -rf "$WORK"
 }

@@ -26,17 +26,7 @@ fail() {
     echo "cross-machine: $DEV_ENGINE is missing: build on the host first (tests/setup.sh)"
     exit 1
 }
-mkdir -p "$ROOT/build-release"
-WORK=$(mktemp -d "$ROOT/build-release/cross.XXXXXX")
-# Only the chroot this run mounted, under its lock, is unmounted: another test may be using the
-# other one.
-mounted=""
-cleanup() {
-    [ -z "$mounted" ] || unmount_checkout "$mounted" "$ROOT"
-    rm -rf "$WORK"
-}
-trap cleanup EXIT
-trap 'exit 130' INT TERM
+work_in_checkout "$ROOT" build-release cross
 sh "$ROOT/native/release/build_release.sh" > "$WORK/build_release.log" 2>&1 || {
     cat "$WORK/build_release.log"
     fail "the release build"

@@ -36,17 +36,7 @@ fail() {
     exit 1
 }
 # Work folders live in the checkout, which every chroot sees at the same path.
-mkdir -p "$ROOT/build-release"
-WORK=$(mktemp -d "$ROOT/build-release/test.XXXXXX")
-# Only the chroot this run mounted, under its lock, is unmounted: another test may be using the
-# other one.
-mounted=""
-cleanup() {
-    [ -z "$mounted" ] || unmount_checkout "$mounted" "$ROOT"
-    [ -n "${MWB_KEEP_WORK:-}" ] || rm -rf "$WORK"
-}
-trap cleanup EXIT
-trap 'exit 130' INT TERM
+work_in_checkout "$ROOT" build-release test
 
 # In CHROOT's Blender, with a throwaway user folder in DIR: install the extension zip as a user
 # does, then run the main loop with it (tests/shared/extension_main_loop.sh: DIR/*.log, DIR/info.txt).

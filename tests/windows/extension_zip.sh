@@ -26,15 +26,7 @@ build_zip() {  # OUT_DIR
         --out "$1" 2> /dev/null
 }
 # The second copy lives in the checkout, which the chroot sees at the same path.
-mkdir -p "$ROOT/build-windows"
-WORK=$(mktemp -d "$ROOT/build-windows/zip-check.XXXXXX")
-mounted=""
-cleanup() {
-    [ -z "$mounted" ] || unmount_checkout "$TRIXIE" "$ROOT"
-    rm -rf "$WORK"
-}
-trap cleanup EXIT
-trap 'exit 130' INT TERM
+work_in_checkout "$ROOT" build-windows zip-check
 
 zip=$(build_zip "$BUILD/zips")
 again=$(build_zip "$WORK")
@@ -53,7 +45,7 @@ fi
 exec 8> "$TRIXIE.lock"
 flock 8
 ensure_chroot "$TRIXIE" trixie "blender python3-numpy" || fail "the Debian 13 chroot at $TRIXIE"
-mounted=yes
+mounted=$TRIXIE
 mount_checkout "$TRIXIE" "$ROOT"
 in_chroot "$TRIXIE" blender -b --factory-startup -c extension validate "$again" > "$WORK/validate.log" 2>&1 ||
     { cat "$WORK/validate.log"; fail "Blender 4.3's extension validate refused $(basename "$zip")"; }
