@@ -4,10 +4,11 @@
 #   in_chroot DIR CMD...                   run CMD in DIR with a clean environment
 #   mount_checkout DIR ROOT                /proc and the checkout ROOT at its own path, in DIR
 #   unmount_checkout DIR ROOT
-#   work_in_checkout ROOT SUBDIR NAME      sets WORK to a new folder ROOT/SUBDIR/NAME.XXXXXX, which every
+#   work_in_checkout ROOT SUBDIR NAME      WORK: a new folder ROOT/SUBDIR/NAME.XXXXXX, which every
 #                                          chroot sees at its own path; at exit it is removed (kept
-#                                          with MWB_KEEP_WORK=1) and the chroot named in $mounted, if
-#                                          any, unmounted. Call it from the script itself, not a subshell.
+#                                          with MWB_KEEP_WORK=1) and the chroot named in $mounted,
+#                                          if any, unmounted. Call it from the script, not a
+#                                          subshell (needs no root).
 #   private_apt_dir APT                    make APT ready for apt_private (empty APT/sources)
 #   apt_private APT ARGS...                apt-get with sources, lists and cache under APT only
 # Needs root. Functions return non-zero with one line on stderr when something fails.
