@@ -206,6 +206,38 @@ TEST(BranchPlanner, LearnsHowLateToBranchFromTheRefinementsThatPaid) {
     }
 }
 
+TEST(BranchPlanner, BackingUpWithinALatenessBinCountsOnlyTheFailuresThere) {
+    // C hits the floor every 0.05 s until it went wrong at 8 s: 40 points per quarter of its span.
+    // The same world is refined 40 times and no child ever gets nearer. Each quarter, the first
+    // time it is chosen, is branched at its latest points, however often the others failed: on
+    // the staircase a world 20 parts of 21 in came to its last quarter after 12 failures elsewhere
+    // and was branched only at that quarter's first points, where 37.5 s, near its end, paid.
+    ThreeBoxes s;
+    s.world.contacts.clear();
+    for (int k = 1; k < 160; ++k) s.world.contacts.push_back({k * 0.05, 3, 0, 1.0});
+    s.score.misses = {{2, 0.3, 8.0, 0.0, {3}}};
+    s.score.first_unmet = 2;
+    s.score.failing_bodies = {3};
+    s.score.closeness = 0.3;
+    BranchPlanner planner(s.scene, s.parts, 5);
+    std::set<size_t> quarters_seen;
+    uint32_t most_failures_before = 0;
+    for (uint32_t failures = 0; failures < 40; ++failures) {
+        Branch b;
+        ASSERT_TRUE(planner.choose(0, s.world, s.score, b));
+        const double t = seconds(b);
+        const size_t quarter = std::min<size_t>(3, static_cast<size_t>(t / 2.0));
+        if (quarters_seen.insert(quarter).second) {
+            most_failures_before = failures;
+            EXPECT_GE(t, 2.0 * (quarter + 1) - 0.5) << "quarter " << quarter << " first chosen after " << failures
+                                                     << " failures elsewhere";
+        }
+        planner.note_children(0, 1.3, {{1000 + failures, 1.3}}, 0.02);
+    }
+    EXPECT_EQ(quarters_seen.size(), 4u);
+    ASSERT_GE(most_failures_before, 4u) << "some quarter should come after failures elsewhere, or this shows nothing";
+}
+
 // C meets two parts in order (its first spot at 1 s, its second at 2 s) and then has to be at a
 // third some time from 5 s to the world's end (10 s); it came nearest at `failure_time_s`, and
 // was in it before 5 s at `early_visit_s` (infinity: never). Every branch point it is given, in
@@ -257,6 +289,31 @@ TEST(BranchPlanner, AWorldTooFastOrTooSlowForAnOrderedPartIsBranchedAllTheWayBac
         EXPECT_LT(*std::min_element(paced.begin(), paced.end()), 1.0)
             << "came nearest at " << failure << " s: never branched before the first part was met";
         EXPECT_LT(*std::max_element(paced.begin(), paced.end()), failure) << "nothing after it went wrong changes it";
+    }
+}
+
+TEST(BranchPlanner, ABodyAtRestIsBranchedWhileWhatItIsJointedToStillMoves) {
+    // C, which misses its part (going wrong at 6 s), lies still from 2.6 s; D, hinged to it, hits
+    // the floor at 4 and 5 s (the staircase's forearm at rest while the body it hangs from slides
+    // on). Alone, C is branched only until it rests; hinged to D, also at D's impacts.
+    for (const bool hinged : {false, true}) {
+        ThreeBoxes s;
+        s.scene.bodies.push_back(fixtures::box("D", {1.5, 0, 0.2}));
+        if (hinged) s.scene.constraints.push_back(fixtures::hinge("CD", "C", "D", {1.25, 0, 0.2}));
+        for (double t : {4.0, 5.0}) s.world.contacts.push_back({t, 4, 0, 1.0});
+        s.world.metrics.push_back({"time_to_rest_s", {0, 0, 0, 2.6, 5.2}});
+        s.score.misses = {{2, 0.3, 6.0, 0.0, {3}}};
+        s.score.first_unmet = 2;
+        s.score.failing_bodies = {3};
+        BranchPlanner planner(s.scene, s.parts, 7);
+        double latest = 0;
+        Branch b;
+        for (size_t n = 0; planner.choose(0, s.world, s.score, b); ++n) {
+            ASSERT_LT(n, 50u);
+            latest = std::max(latest, seconds(b));
+        }
+        if (hinged) EXPECT_DOUBLE_EQ(latest, 5.0) << "D's last impact";
+        else EXPECT_LE(latest, 2.6) << "nothing of C moves after it rests";
     }
 }
 

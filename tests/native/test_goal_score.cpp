@@ -359,6 +359,7 @@ TEST(GoalScore, PartsMetAfterTheFirstEntryIntoANegativeBoxDoNotCountTowardItsVal
     EXPECT_EQ(all_but_n.boxes_met, 3u);
     EXPECT_NEAR(all_but_n.violation_time_s, 1 + 5 / 5.5, 1.0 / 30);
     EXPECT_EQ(all_but_n.parts_before_violation, 1u);  // A only: B and C came after
+    EXPECT_EQ(all_but_n.positive_parts_before_violation, 1u);  // A: a mend can keep it
     // Body 0 meets A and stops short of B; body 1 stays low: fewer boxes, but nothing to undo.
     const auto stopping = path_through({{0.5, 3}, {0.5, 0.5}, {1.5, 0.5}, {1.5, 0.5}, {1.5, 0.5}});
     const auto staying = path_through({{-8, 0}, {-8, 0}, {-8, 0}, {-8, 0}, {-8, 0}});
@@ -366,6 +367,7 @@ TEST(GoalScore, PartsMetAfterTheFirstEntryIntoANegativeBoxDoNotCountTowardItsVal
     EXPECT_EQ(a_and_n.boxes_met, 2u);
     EXPECT_FALSE(std::isfinite(a_and_n.violation_time_s));
     EXPECT_EQ(a_and_n.parts_before_violation, 2u);
+    EXPECT_EQ(a_and_n.positive_parts_before_violation, 1u);  // N kept is not a positive part
     EXPECT_GT(a_and_n.value(), all_but_n.value());
     // An orientation part counts when its window closed before the violation, not when it closes after.
     const BodyOrientations still{turning_about_x(tumble.point_count(), 0, 0, 1),
@@ -375,6 +377,7 @@ TEST(GoalScore, PartsMetAfterTheFirstEntryIntoANegativeBoxDoNotCountTowardItsVal
     const GoalScore upright_too = score_goal({tumble, poking_out}, radii, goal, goal_order(goal), true, &still);
     EXPECT_EQ(upright_too.boxes_met, 5u);
     EXPECT_EQ(upright_too.parts_before_violation, 2u);
+    EXPECT_EQ(upright_too.positive_parts_before_violation, 2u);
 }
 
 TEST(GoalScore, AWorldThatBrokeANegativePartIsCloserTheLaterItBroke) {

@@ -334,6 +334,40 @@ TEST_F(Seek, AFamilyWhoseBestWorldBrokeANegativePartGivesWayToAFreshBatchSoon) {
     EXPECT_GE(sampled, 32u * (refined_per_family.size() - 1)) << "one fresh batch per family given up";
 }
 
+TEST_F(Seek, ABrokenFamilyThatMetAPositivePartFirstKeepsTheLongAllowance) {
+    // The goal above, plus Box1 anywhere in view in the first 0.2 s, which every world meets
+    // before Box0 lands: a refinement before the break keeps that part, a fresh world need not,
+    // so the family keeps its place past 64 worlds.
+    const std::string file = copy_of_start("broken_after_a_part.mwb");
+    std::string low = box_json(R"(["Box0"])", true, "null", "[0, 0, 400, 400]");
+    low.replace(low.find("0,0,1,-20"), 9, "0,0,1,-0.3");
+    low.replace(low.find("[2.0, 3.0]"), 10, "null");
+    std::string seen = box_json(R"(["Box1"])", false, "null", "[0, 0, 400, 400]");
+    seen.replace(seen.find("[2.0, 3.0]"), 10, "[0.0, 0.2]");
+    SeekRequest r = request(2);
+    r.boxes = goal_from_json(goal_json({box_json(R"(["Box1"])", false, "null", "[396, 396, 400, 400]"), low, seen}), scene_);
+    r.beam_width = 1;
+    r.children_per_branch = 8;
+    r.budget_worlds = 400;
+    EXPECT_FALSE(seek_goal(file, r).reached);
+    std::map<uint64_t, uint64_t> refined_per_family;
+    LibraryReader reader(file, ReaderOptions{false, 30});
+    ScoredWorlds scored(reader, scene_, r.boxes, 1);
+    scored.take_new_worlds();
+    for (const StoredWorld& w : reader.worlds()) {
+        if (w.lineage.empty()) continue;
+        ++refined_per_family[w.root_world];
+        // Every world the search made meets the early part and breaks the negative one after it.
+        ASSERT_TRUE(scored.has(w.world_index));
+        const GoalScore& s = scored.score(w.world_index);
+        ASSERT_TRUE(std::isfinite(s.violation_time_s));
+        ASSERT_EQ(s.positive_parts_before_violation, 1u);
+    }
+    uint64_t most = 0;
+    for (const auto& [family, worlds] : refined_per_family) most = std::max(most, worlds);
+    EXPECT_GT(most, 2u * (64u + 8u)) << "a family that met a part before it broke gave its place up as soon";
+}
+
 TEST_F(Seek, TheOddsOfAFreshWorldCountAnOrderedPartOnlyAmongWorldsMeetingThePartBefore) {
     // Of the 6 sampled worlds none has Box1 in the far corner (beyond the walls), and all have it
     // somewhere on the floor. Each part's share is smoothed, (met + 0.5) / (counted + 1).

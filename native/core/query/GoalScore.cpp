@@ -427,7 +427,10 @@ GoalScore score_goal(const std::vector<PathView>& paths, const std::vector<doubl
                                : box.orientation    ? (box.window.empty() ? kInfinity : box.window.hi_s)
                                                     : score.met_time_s[k];
         // A pose held beside its box is not yet worth a part (pose_waits_on).
-        if (decided < score.violation_time_s && !waits_on_missed_box(boxes, score, k)) ++score.parts_before_violation;
+        if (decided < score.violation_time_s && !waits_on_missed_box(boxes, score, k)) {
+            ++score.parts_before_violation;
+            if (!box.negative) ++score.positive_parts_before_violation;
+        }
     }
     if (!with_closeness) return score;
     double horizon = 0;

@@ -87,6 +87,9 @@ struct GoalScore {
     /// kept. Poses waiting on a missed box (waits_on_missed_box) are left out. boxes_met when no
     /// negative part is missed and no pose waits.
     uint32_t parts_before_violation = 0;
+    /// Of those, the positive ones: what a refinement mending the violation can keep and a fresh
+    /// world cannot.
+    uint32_t positive_parts_before_violation = 0;
     /// When that negative part is a pose part: how near it was to being kept (its closeness: the
     /// share of the window each body spent out of the pose, averaged), which tells apart worlds
     /// that broke it at the same moment. 0 otherwise.

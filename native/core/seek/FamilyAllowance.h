@@ -10,7 +10,9 @@ namespace mwb {
 /// A world as the allowance sees it.
 struct FamilyWorld {
     double value = 0;     ///< GoalScore::value(): parts met, then closeness to the next
-    bool broken = false;  ///< it broke a negative part (GoalScore::violation_time_s is finite)
+    /// It broke a negative part before meeting any positive one (GoalScore::violation_time_s is
+    /// finite, positive_parts_before_violation 0): nothing of it is worth keeping.
+    bool broken = false;
 };
 
 class FamilyAllowance {

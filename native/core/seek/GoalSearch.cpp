@@ -36,12 +36,15 @@ constexpr uint32_t kBeamPerFamily = 1;
 // made 554 worlds for 3 parts. Families within reach keep their places, so the beam still holds
 // starts as good as the leader's, but a start half the goal behind no longer slows the best one.
 constexpr double kBeamReachParts = 3;
-// The worlds a family whose best world broke a negative part may make without meeting more parts
-// before it gives its place up to a fresh batch: eight refinements. Such a start is mended only
-// by branching before the break and re-running all that came after, which a fresh world does for
-// one world instead of eight. On the staircase (most sampled worlds poke an arm out in their first
-// 1.5 s) broken families kept their beam places for 700 worlds and more without a gain, while
-// families sampled later with a clean start went from 11 to 20 parts in 280 worlds.
+// The worlds a family whose best world broke a negative part before meeting any positive one may
+// make without meeting more parts before it gives its place up to a fresh batch: eight refinements.
+// Such a start is mended only by branching before the break and re-running all that came after,
+// which a fresh world does for one world instead of eight. A family that met positive parts before
+// it broke keeps the whole allowance: a refinement keeps them, a fresh world does not (from the
+// staircase's base seed 3 the search got to 20 of 21 parts instead of 17). On the staircase (most
+// sampled worlds poke an arm out in their first 1.5 s) broken families kept their beam places for
+// 700 worlds and more without a gain, while families sampled later with a clean start went from 11
+// to 20 parts in 280 worlds.
 constexpr uint64_t kBrokenFamilyWorlds = 64;
 
 // The search's driver: the budget, the rounds of beam and refinement, fresh samples when
@@ -162,18 +165,18 @@ private:
     }
 
     // Sets a family aside for good once its refinements have made request_.family_stall_worlds
-    // worlds (kBrokenFamilyWorlds while its best world broke a negative part, and then a fresh
-    // batch is sampled) since one of them last met more parts than any of the family before: its
-    // place in the beam goes to the next family, which may be one sampled meanwhile. On SIGGRAPH the
-    // families that reached the goal gained each letter within 736 of their worlds (from base
-    // seed 1: 88 to 359 for the one that got all 8), while from base seed 0 four families made
-    // 1,278 to 1,659 worlds each after their last gain until the 10 minutes ran out, and the
-    // batches sampled meanwhile never got a place in the beam: hence 1,024.
+    // worlds (kBrokenFamilyWorlds while its best world broke a negative part first, and then a
+    // fresh batch is sampled) since one of them last met more parts than any of the family before:
+    // its place in the beam goes to the next family, which may be one sampled meanwhile. On
+    // SIGGRAPH the families that reached the goal gained each letter within 736 of their worlds
+    // (from base seed 1: 88 to 359 for the one that got all 8), while from base seed 0 four
+    // families made 1,278 to 1,659 worlds each after their last gain until the 10 minutes ran out,
+    // and the batches sampled meanwhile never got a place in the beam: hence 1,024.
     void note_family_progress(uint64_t world, const std::vector<std::pair<uint64_t, double>>& children,
                               uint64_t made) {
         const auto as_seen = [&](uint64_t w) {
             const GoalScore& s = worlds_->score(w);
-            return FamilyWorld{s.value(), std::isfinite(s.violation_time_s)};
+            return FamilyWorld{s.value(), std::isfinite(s.violation_time_s) && s.positive_parts_before_violation == 0};
         };
         std::vector<FamilyWorld> scored;
         for (const auto& child : children) scored.push_back(as_seen(child.first));
