@@ -69,10 +69,10 @@ private:
     bool choose_for(uint64_t world, const StoredWorld& record, const GoalScore& score, const GoalScore::Miss& miss,
                     bool risking_met, Branch& chosen);
     // The failures of a world's refinements for a part, in all (which part to work on) or at the
-    // points of one lateness bin (how far back within it to go).
+    // points of lateness bin `bin` and later ones (how far back within that bin to go).
     using Failures = std::array<uint32_t, kLatenessBins>;
     uint32_t failures_of(uint64_t world, int32_t part) const;
-    uint32_t failures_of(uint64_t world, int32_t part, size_t bin) const;
+    uint32_t failures_from(uint64_t world, int32_t part, size_t bin) const;
     // The points worth refining at. Never one after which none of its bodies has an impact: with
     // nothing perturbed its children all repeat the parent. Then, unless `risking_met`, the points
     // that re-simulate no body holding a met part nor a touch of one, else only those that do:
