@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <array>
 #include <limits>
 #include <set>
 #include <utility>
@@ -205,50 +204,6 @@ TEST(BranchPlanner, LearnsHowLateToBranchFromTheRefinementsThatPaid) {
         EXPECT_GE(paying, 25u) << (late_pays ? "the last" : "the first") << " quarter pays; of the last 30 choices, "
                                << paying << " were there";
     }
-}
-
-TEST(BranchPlanner, OnlyFailuresAtLaterBinsBackTheNextTryUp) {
-    // C hits the floor every 0.05 s until it went wrong at 8 s: 40 points per quarter of its span.
-    // The same world is refined 40 times and no child ever gets nearer. Each quarter, the first
-    // time it is chosen, is branched at its latest points if only earlier quarters failed (a
-    // failure there says nothing of later points), and further back if later ones did (try
-    // earlier). On the staircase a world 20 parts of 21 in came to its last quarter after 12
-    // failures in earlier ones and was branched only at that quarter's first points, where 37.5 s,
-    // near its end, paid.
-    bool staircase_like = false;
-    for (const uint64_t seed : {5u, 6u, 7u, 8u}) {
-        ThreeBoxes s;
-        s.world.contacts.clear();
-        for (int k = 1; k < 160; ++k) s.world.contacts.push_back({k * 0.05, 3, 0, 1.0});
-        s.score.misses = {{2, 0.3, 8.0, 0.0, {3}}};
-        s.score.first_unmet = 2;
-        s.score.failing_bodies = {3};
-        s.score.closeness = 0.3;
-        BranchPlanner planner(s.scene, s.parts, seed);
-        std::array<uint32_t, 4> failed{};
-        std::set<size_t> seen;
-        for (uint32_t n = 0; n < 40; ++n) {
-            Branch b;
-            ASSERT_TRUE(planner.choose(0, s.world, s.score, b));
-            const double t = seconds(b);
-            const size_t quarter = std::min<size_t>(3, static_cast<size_t>(t / 2.0));
-            if (seen.insert(quarter).second) {
-                uint32_t earlier = 0, later = 0;
-                for (size_t q = 0; q < 4; ++q) (q < quarter ? earlier : later) += failed[q];
-                const double end = 2.0 * (quarter + 1);
-                if (later == 0)
-                    EXPECT_GE(t, end - 0.5) << "seed " << seed << ", quarter " << quarter << " after " << earlier
-                                            << " failures before it only";
-                else if (later >= 4)
-                    EXPECT_LT(t, end - 0.25) << "seed " << seed << ", quarter " << quarter << " after " << later
-                                             << " failures later in the span";
-                if (later == 0 && earlier >= 4) staircase_like = true;
-            }
-            ++failed[quarter];
-            planner.note_children(0, 1.3, {{1000 + n, 1.3}}, 0.02);
-        }
-    }
-    ASSERT_TRUE(staircase_like) << "no quarter came after 4 failures in earlier ones alone: this shows nothing";
 }
 
 // C meets two parts in order (its first spot at 1 s, its second at 2 s) and then has to be at a

@@ -216,18 +216,7 @@ bool BranchPlanner::choose(uint64_t world, const StoredWorld& record, const Goal
 
 uint32_t BranchPlanner::failures_of(uint64_t world, int32_t part) const {
     const auto it = failures_.find({world, part});
-    if (it == failures_.end()) return 0;
-    uint32_t all = 0;
-    for (uint32_t in_bin : it->second) all += in_bin;
-    return all;
-}
-
-uint32_t BranchPlanner::failures_from(uint64_t world, int32_t part, size_t bin) const {
-    const auto it = failures_.find({world, part});
-    if (it == failures_.end()) return 0;
-    uint32_t later = 0;
-    for (size_t b = bin; b < kLatenessBins; ++b) later += it->second[b];
-    return later;
+    return it == failures_.end() ? 0 : it->second;
 }
 
 bool BranchPlanner::choose_for(uint64_t world, const StoredWorld& record, const GoalScore& score,
@@ -246,12 +235,7 @@ bool BranchPlanner::choose_for(uint64_t world, const StoredWorld& record, const 
         if (!tried_.count({world, points[k]})) open.push_back(in_bin.size());
         in_bin.push_back(k);
     }
-    // Failures in this bin and later ones: a refinement that failed late says to try earlier, one
-    // that failed earlier says nothing of later points. On the staircase a world meeting 20 of 21
-    // parts broke the footprint at 39.6 s; its refinements in earlier bins had backed it up so far
-    // that, once the last bin came, it branched only at that bin's first points (29.7 s), 961
-    // worlds without a part, where 5 of 16 children branched at 37.5 s met the whole goal.
-    const uint32_t failures = std::min<uint32_t>(failures_from(world, miss.part, bin), 20);
+    const uint32_t failures = std::min<uint32_t>(failures_of(world, miss.part), 20);
     const double target = static_cast<double>(in_bin.size() - 1) - static_cast<double>((1u << failures) - 1);
     std::vector<double> weights;
     double total = 0;
@@ -303,19 +287,18 @@ double BranchPlanner::beta_draw(uint32_t a, uint32_t b) {
 void BranchPlanner::note_children(uint64_t parent, double parent_value,
                                   const std::vector<std::pair<uint64_t, double>>& children, double gain) {
     const int32_t part = refined_part_.count(parent) ? refined_part_.at(parent) : -1;
-    const auto bin = refined_lateness_.find(parent);
-    const size_t refined_bin = bin == refined_lateness_.end() ? 0 : bin->second;
-    Failures failed = failures_.count({parent, part}) ? failures_.at({parent, part}) : Failures{};
-    ++failed[refined_bin];
+    const uint32_t parent_failures = failures_of(parent, part);
     double best_child = -1;
     for (const auto& [child, value] : children) {
         best_child = std::max(best_child, value);
         // A child no better than its parent failed where the parent did: it starts backing
         // up from there instead of trying the same late branch points again.
-        failures_[{child, part}] = value > parent_value + gain ? Failures{} : failed;
+        failures_[{child, part}] = value > parent_value + gain ? 0 : parent_failures + 1;
     }
-    failures_[{parent, part}] = best_child > parent_value + gain ? Failures{} : failed;
+    if (best_child > parent_value + gain) failures_[{parent, part}] = 0;
+    else ++failures_[{parent, part}];
     // Whether branching this late paid: a child met a part more than its parent.
+    const auto bin = refined_lateness_.find(parent);
     if (bin != refined_lateness_.end()) {
         LatenessRecord& record = lateness_record_[bin->second];
         ++record.refinements;

@@ -42,8 +42,7 @@ public:
 
     /// How a refinement of `parent` went, on the part it was refined for: a child better than
     /// the parent by more than `gain` starts afresh, one that is not inherits its parent's
-    /// failures plus one at the bin branched in; the parent backs up in that bin unless some
-    /// child was better.
+    /// failures plus one; the parent backs up unless some child was better.
     void note_children(uint64_t parent, double parent_value, const std::vector<std::pair<uint64_t, double>>& children,
                        double gain);
 
@@ -68,11 +67,7 @@ private:
     double beta_draw(uint32_t a, uint32_t b);
     bool choose_for(uint64_t world, const StoredWorld& record, const GoalScore& score, const GoalScore::Miss& miss,
                     bool risking_met, Branch& chosen);
-    // The failures of a world's refinements for a part, in all (which part to work on) or at the
-    // points of lateness bin `bin` and later ones (how far back within that bin to go).
-    using Failures = std::array<uint32_t, kLatenessBins>;
     uint32_t failures_of(uint64_t world, int32_t part) const;
-    uint32_t failures_from(uint64_t world, int32_t part, size_t bin) const;
     // The points worth refining at. Never one after which none of its bodies has an impact: with
     // nothing perturbed its children all repeat the parent. Then, unless `risking_met`, the points
     // that re-simulate no body holding a met part nor a touch of one, else only those that do:
@@ -89,7 +84,7 @@ private:
     const Scene& scene_;
     const std::vector<QueryBox>& boxes_;
     PortableRandom random_;
-    std::map<std::pair<uint64_t, int32_t>, Failures> failures_;  ///< (world, part): children that failed it, per bin
+    std::map<std::pair<uint64_t, int32_t>, uint32_t> failures_;  ///< (world, part): children that failed it
     std::map<uint64_t, int32_t> refined_part_;                     ///< world: the part last refined
     std::map<uint64_t, size_t> refined_lateness_;                  ///< world: the bin of its last branch point
     std::array<LatenessRecord, kLatenessBins> lateness_record_{};
