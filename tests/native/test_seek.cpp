@@ -37,6 +37,15 @@ std::string box_json(const std::string& objects, bool negative = false, const st
            R"(, "time_window": [2.0, 3.0], "after": )" + after + "}";
 }
 
+// A negative box seen from above whose depth ends 0.3 m up, on Box0, over the whole run: every
+// world breaks it as Box0 lands, at its own moment.
+std::string box0_stays_above() {
+    std::string low = box_json(R"(["Box0"])", true, "null", "[0, 0, 400, 400]");
+    low.replace(low.find("0,0,1,-20"), 9, "0,0,1,-0.3");
+    low.replace(low.find("[2.0, 3.0]"), 10, "null");
+    return low;
+}
+
 std::string goal_json(const std::vector<std::string>& boxes) {
     std::string text = R"({"boxes": [)";
     for (size_t k = 0; k < boxes.size(); ++k) text += (k ? "," : "") + boxes[k];
@@ -310,9 +319,7 @@ TEST_F(Seek, AFamilyWhoseBestWorldBrokeANegativePartGivesWayToAFreshBatchSoon) {
     // a gain the family gives its place up and a fresh batch is sampled, though the allowance for
     // families that stop paying (1,024 worlds) is far off.
     const std::string file = copy_of_start("broken.mwb");
-    std::string low = box_json(R"(["Box0"])", true, "null", "[0, 0, 400, 400]");
-    low.replace(low.find("0,0,1,-20"), 9, "0,0,1,-0.3");
-    low.replace(low.find("[2.0, 3.0]"), 10, "null");
+    const std::string low = box0_stays_above();
     SeekRequest r = request(2);
     r.boxes = goal_from_json(goal_json({box_json(R"(["Box1"])", false, "null", "[396, 396, 400, 400]"), low}), scene_);
     r.beam_width = 1;
@@ -339,9 +346,7 @@ TEST_F(Seek, ABrokenFamilyThatMetAPositivePartFirstKeepsTheLongAllowance) {
     // before Box0 lands: a refinement before the break keeps that part, a fresh world need not,
     // so the family keeps its place past 64 worlds.
     const std::string file = copy_of_start("broken_after_a_part.mwb");
-    std::string low = box_json(R"(["Box0"])", true, "null", "[0, 0, 400, 400]");
-    low.replace(low.find("0,0,1,-20"), 9, "0,0,1,-0.3");
-    low.replace(low.find("[2.0, 3.0]"), 10, "null");
+    const std::string low = box0_stays_above();
     std::string seen = box_json(R"(["Box1"])", false, "null", "[0, 0, 400, 400]");
     seen.replace(seen.find("[2.0, 3.0]"), 10, "[0.0, 0.2]");
     SeekRequest r = request(2);
