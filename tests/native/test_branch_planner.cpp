@@ -262,8 +262,8 @@ TEST(BranchPlanner, AWorldTooFastOrTooSlowForAnOrderedPartIsBranchedAllTheWayBac
 
 TEST(BranchPlanner, ABodyAtRestIsBranchedWhileWhatItIsJointedToStillMoves) {
     // C, which misses its part (going wrong at 6 s), lies still from 2.6 s; D, hinged to it, hits
-    // the floor at 4 and 5 s (the staircase's forearm at rest while the body it hangs from slides
-    // on). Alone, C is branched only until it rests; hinged to D, also at D's impacts.
+    // the floor at 4 and 5 s (a forearm at rest while the body it hangs from slides on). Alone, C
+    // is branched only until it rests; hinged to D, also at D's impacts.
     for (const bool hinged : {false, true}) {
         ThreeBoxes s;
         s.scene.bodies.push_back(fixtures::box("D", {1.5, 0, 0.2}));

@@ -26,7 +26,7 @@ FamilyAllowance::Verdict FamilyAllowance::note(uint64_t family, const FamilyWorl
         return Verdict::Keep;
     }
     record.worlds_since_gain += made;
-    const bool broken = record.best.broken;
+    const bool broken = record.best.broken_start;
     if (record.worlds_since_gain < (broken ? broken_worlds_ : stall_worlds_)) return Verdict::Keep;
     return broken ? Verdict::BrokenStart : Verdict::SetAside;
 }

@@ -12,7 +12,7 @@ struct FamilyWorld {
     double value = 0;     ///< GoalScore::value(): parts met, then closeness to the next
     /// It broke a negative part before meeting any positive one (GoalScore::violation_time_s is
     /// finite, positive_parts_before_violation 0): nothing of it is worth keeping.
-    bool broken = false;
+    bool broken_start = false;
 };
 
 class FamilyAllowance {

@@ -39,12 +39,12 @@ constexpr double kBeamReachParts = 3;
 // The worlds a family whose best world broke a negative part before meeting any positive one may
 // make without meeting more parts before it gives its place up to a fresh batch: eight refinements.
 // Such a start is mended only by branching before the break and re-running all that came after,
-// which a fresh world does for one world instead of eight. A family that met positive parts before
-// it broke keeps the whole allowance: a refinement keeps them, a fresh world does not (from the
-// staircase's base seed 3 the search got to 20 of 21 parts instead of 17). On the staircase (most
-// sampled worlds poke an arm out in their first 1.5 s) broken families kept their beam places for
-// 700 worlds and more without a gain, while families sampled later with a clean start went from 11
-// to 20 parts in 280 worlds.
+// which a fresh world does for one world instead of eight. On the staircase (most sampled worlds
+// poke an arm out in their first 1.5 s) broken families kept their beam places for 700 worlds and
+// more without a gain, while families sampled later with a clean start went from 11 to 20 parts in
+// 280 worlds. A family that met positive parts before it broke keeps the whole allowance: a
+// refinement keeps them, a fresh world does not (from the staircase's base seed 3 the search got to
+// 20 of 21 parts instead of 17).
 constexpr uint64_t kBrokenFamilyWorlds = 64;
 
 // The search's driver: the budget, the rounds of beam and refinement, fresh samples when
