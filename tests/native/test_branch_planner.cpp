@@ -285,5 +285,55 @@ TEST(BranchPlanner, ABodyAtRestIsBranchedWhileWhatItIsJointedToStillMoves) {
     }
 }
 
+TEST(BranchPlanner, ABreakIsBranchedLateInEachLengthOfItsSpanHoweverOftenOthersFailed) {
+    // C entered a box it must keep out of (a negative part) at 6 s, after every positive part was
+    // met; it hits the floor every 0.25 s before. Every refinement fails. A failure in one length
+    // of the span says nothing of how late to branch in another: a length first tried after
+    // failures elsewhere is branched late in it, not where those failures pushed it (on the
+    // staircase, a figure that stepped out of the footprint 39.6 s into 40 was branched in the
+    // last length only at its start, 10 s before, after 12 failures earlier; branched by hand at
+    // 37.5 s, 5 of 16 children kept in).
+    ThreeBoxes s;
+    s.world.contacts.clear();
+    for (double t = 0.25; t < 9.5; t += 0.25) s.world.contacts.push_back({t, 3, 0, 1.0});
+    QueryBox keep_out;
+    keep_out.bodies = {3};
+    keep_out.negative = true;
+    s.parts.push_back(keep_out);
+    s.score.boxes_met = 3;
+    s.score.met = {1, 1, 1, 0};
+    s.score.met_time_s = {8.0, 8.0, 8.0, 0};
+    s.score.misses = {{3, 0.5, 6.0, 0.0, {3}}};
+    s.score.first_unmet = 3;
+    s.score.closeness = 0.5;
+    s.score.violation_time_s = 6.0;
+    s.score.failure_time_s = 6.0;
+    s.score.failing_bodies = {3};
+    // Over many searches (seeds), where in a length its first point lies, for lengths first tried
+    // after 3 or more failures (which would move a try 7 points, more than a length holds, back).
+    double offsets = 0;
+    size_t lengths = 0;
+    for (uint64_t seed = 1; seed <= 20; ++seed) {
+        BranchPlanner planner(s.scene, s.parts, seed);
+        std::set<size_t> lengths_seen;
+        Branch b;
+        for (size_t n = 0; planner.choose(0, s.world, s.score, b); ++n) {
+            ASSERT_LT(n, 50u);
+            const double t = seconds(b);
+            EXPECT_LT(t, 6.0) << "nothing after the break counts";
+            const size_t length = std::min<size_t>(3, static_cast<size_t>(t / 1.5));
+            if (lengths_seen.insert(length).second && n >= 3) {
+                offsets += t - 1.5 * static_cast<double>(length);
+                ++lengths;
+            }
+            planner.note_children(0, 3.5, {{100 + n, 3.5}}, 0.02);
+        }
+    }
+    ASSERT_GT(lengths, 20u);
+    EXPECT_GE(offsets / static_cast<double>(lengths), 0.75)
+        << "a length first tried after failures elsewhere is branched, on average, " << offsets / lengths
+        << " s after its start (of 1.5 s)";
+}
+
 }  // namespace
 }  // namespace mwb

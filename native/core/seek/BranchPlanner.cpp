@@ -16,6 +16,8 @@ constexpr double kGridSpacing = 0.5;
 constexpr double kRunningOutS = 1.0;
 // Negative boxes entered by many bodies: the earliest few are refined.
 constexpr size_t kMaxFailingBodies = 8;
+// How far each failure of a broken world's refinements moves the next try back, seconds.
+constexpr double kBackOffStepS = 0.1;
 
 // When the last of `bodies` came to rest for good (the world's end if one never did).
 double rest_time(const StoredWorld& w, const std::set<uint32_t>& bodies) {
@@ -136,28 +138,27 @@ std::vector<Branch> BranchPlanner::worth_branching(const StoredWorld& w, const G
         for (uint32_t b : part.bodies)
             if (simulated(b) && !failing_set.count(b)) kept.insert(b);
     }
-    // Per body, its last impact; and the touches between simulated bodies, in time order.
-    std::map<uint32_t, double> last_impact;
-    std::vector<const ContactEvent*> touches;
+    // The impacts that count (none after the world broke a negative part: nothing after that
+    // counts), and the touches between simulated bodies, in time order.
+    std::vector<const ContactEvent*> impacts, touches;
     for (const ContactEvent& c : w.contacts) {
         if (c.body < 0) continue;
-        const auto a = static_cast<uint32_t>(c.body);
-        last_impact[a] = std::max(last_impact[a], c.time_s);
-        if (c.other >= 0 && simulated(a) && simulated(static_cast<uint32_t>(c.other))) touches.push_back(&c);
+        if (c.time_s < score.violation_time_s) impacts.push_back(&c);
+        if (c.other >= 0 && simulated(static_cast<uint32_t>(c.body)) && simulated(static_cast<uint32_t>(c.other)))
+            touches.push_back(&c);
     }
-    std::stable_sort(touches.begin(), touches.end(),
-                     [](const ContactEvent* x, const ContactEvent* y) { return x->time_s < y->time_s; });
+    const auto by_time = [](const ContactEvent* x, const ContactEvent* y) { return x->time_s < y->time_s; };
+    std::stable_sort(impacts.begin(), impacts.end(), by_time);
+    std::stable_sort(touches.begin(), touches.end(), by_time);
     std::vector<Branch> worth;
     for (const Branch& point : points) {
         // The children re-simulate from the start of the branch frame.
         const double branch_time = static_cast<double>(point.frame) / w.record_hz;
         std::set<uint32_t> reached = jointed_with(point.bodies);
-        bool perturbed = false;
-        for (uint32_t b : reached) {
-            const auto it = last_impact.find(b);
-            perturbed = perturbed || (it != last_impact.end() && it->second >= branch_time);
-        }
-        if (!perturbed) continue;
+        const auto from = std::lower_bound(impacts.begin(), impacts.end(), branch_time,
+                                           [](const ContactEvent* c, double t) { return c->time_s < t; });
+        if (std::none_of(from, impacts.end(), [&](const ContactEvent* c) { return reached.count(static_cast<uint32_t>(c->body)) > 0; }))
+            continue;
         // What the refined bodies touch from then on, what those touch after, and so on: the
         // bodies a child may set moving anew, its own touches or its ghosts'.
         bool keeps = std::none_of(reached.begin(), reached.end(), [&](uint32_t b) { return kept.count(b) > 0; });
@@ -235,8 +236,20 @@ bool BranchPlanner::choose_for(uint64_t world, const StoredWorld& record, const 
         if (!tried_.count({world, points[k]})) open.push_back(in_bin.size());
         in_bin.push_back(k);
     }
-    const uint32_t failures = std::min<uint32_t>(failures_of(world, miss.part), 20);
-    const double target = static_cast<double>(in_bin.size() - 1) - static_cast<double>((1u << failures) - 1);
+    // Where the failures point, as an index into `in_bin`: for a positive part 1, 2, 4, ... points
+    // before the latest; for a negative part that many tenths of a second before it. A break is one
+    // moment, and how far before it a branch must go to mend it is a time: the staircase's figure
+    // touches a step every few frames, and a back-off in points stayed within 0.3 s of a break that
+    // a branch 1.5 s before it mended.
+    const uint32_t failures = std::min<uint32_t>(back_off_failures(world, miss.part, bin), 20);
+    const double steps_back = static_cast<double>((1u << failures) - 1);
+    double target = static_cast<double>(in_bin.size() - 1) - steps_back;
+    if (boxes_[static_cast<size_t>(miss.part)].negative) {
+        const double wanted = static_cast<double>(points[in_bin.back()].frame) - kBackOffStepS * record.record_hz * steps_back;
+        size_t k = 0;
+        while (k + 1 < in_bin.size() && static_cast<double>(points[in_bin[k + 1]].frame) <= wanted) ++k;
+        target = static_cast<double>(k);
+    }
     std::vector<double> weights;
     double total = 0;
     for (size_t k : open) {
@@ -256,6 +269,12 @@ bool BranchPlanner::choose_for(uint64_t world, const StoredWorld& record, const 
     tried_.insert({world, chosen});
     refined_lateness_[world] = bin;
     return true;
+}
+
+uint32_t BranchPlanner::back_off_failures(uint64_t world, int32_t part, size_t bin) const {
+    if (part < 0 || !boxes_[static_cast<size_t>(part)].negative) return failures_of(world, part);
+    const auto it = length_failures_.find({world, part});
+    return it == length_failures_.end() ? 0 : it->second[bin];
 }
 
 size_t BranchPlanner::choose_lateness(const std::vector<size_t>& bins_open) {
@@ -297,8 +316,20 @@ void BranchPlanner::note_children(uint64_t parent, double parent_value,
     }
     if (best_child > parent_value + gain) failures_[{parent, part}] = 0;
     else ++failures_[{parent, part}];
-    // Whether branching this late paid: a child met a part more than its parent.
     const auto bin = refined_lateness_.find(parent);
+    if (part >= 0 && boxes_[static_cast<size_t>(part)].negative && bin != refined_lateness_.end()) {
+        std::array<uint32_t, kLatenessBins>& own = length_failures_[{parent, part}];
+        const std::array<uint32_t, kLatenessBins> before = own;
+        for (const auto& [child, value] : children) {
+            std::array<uint32_t, kLatenessBins>& lengths = length_failures_[{child, part}];
+            lengths = before;
+            if (value > parent_value + gain) lengths.fill(0);
+            else ++lengths[bin->second];
+        }
+        if (best_child > parent_value + gain) own.fill(0);
+        else ++own[bin->second];
+    }
+    // Whether branching this late paid: a child met a part more than its parent.
     if (bin != refined_lateness_.end()) {
         LatenessRecord& record = lateness_record_[bin->second];
         ++record.refinements;

@@ -68,8 +68,12 @@ private:
     bool choose_for(uint64_t world, const StoredWorld& record, const GoalScore& score, const GoalScore::Miss& miss,
                     bool risking_met, Branch& chosen);
     uint32_t failures_of(uint64_t world, int32_t part) const;
-    // The points worth refining at. Never one after which none of its bodies has an impact: with
-    // nothing perturbed its children all repeat the parent. Then, unless `risking_met`, the points
+    // The failures that set how far back in the chosen length to branch: for a positive part all
+    // of the part's, for a negative part only those refined in that length (see choose_for).
+    uint32_t back_off_failures(uint64_t world, int32_t part, size_t bin) const;
+    // The points worth refining at. Never one after which none of its bodies has an impact before
+    // the world broke a negative part, if it did: with nothing perturbed that counts, its children
+    // all score as the parent. Then, unless `risking_met`, the points
     // that re-simulate no body holding a met part nor a touch of one, else only those that do:
     // refining a letter before its last touch of a letter already in its slot knocked that one
     // out in most children (SIGGRAPH, 3 minutes of a search: 78% of such children lost a letter,
@@ -85,6 +89,8 @@ private:
     const std::vector<QueryBox>& boxes_;
     PortableRandom random_;
     std::map<std::pair<uint64_t, int32_t>, uint32_t> failures_;  ///< (world, part): children that failed it
+    /// (world, negative part): per length of its span, the refinements there whose children failed it
+    std::map<std::pair<uint64_t, int32_t>, std::array<uint32_t, kLatenessBins>> length_failures_;
     std::map<uint64_t, int32_t> refined_part_;                     ///< world: the part last refined
     std::map<uint64_t, size_t> refined_lateness_;                  ///< world: the bin of its last branch point
     std::array<LatenessRecord, kLatenessBins> lateness_record_{};
