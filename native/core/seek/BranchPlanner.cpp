@@ -16,7 +16,7 @@ constexpr double kGridSpacing = 0.5;
 constexpr double kRunningOutS = 1.0;
 // Negative boxes entered by many bodies: the earliest few are refined.
 constexpr size_t kMaxFailingBodies = 8;
-// How far each failure of a broken world's refinements moves the next try back, seconds.
+// The first step of a broken world's back-off in time, seconds (then 0.2, 0.4, ...).
 constexpr double kBackOffStepS = 0.1;
 
 // When the last of `bodies` came to rest for good (the world's end if one never did).

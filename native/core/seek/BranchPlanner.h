@@ -73,11 +73,11 @@ private:
     uint32_t back_off_failures(uint64_t world, int32_t part, size_t bin) const;
     // The points worth refining at. Never one after which none of its bodies has an impact before
     // the world broke a negative part, if it did: with nothing perturbed that counts, its children
-    // all score as the parent. Then, unless `risking_met`, the points
-    // that re-simulate no body holding a met part nor a touch of one, else only those that do:
-    // refining a letter before its last touch of a letter already in its slot knocked that one
-    // out in most children (SIGGRAPH, 3 minutes of a search: 78% of such children lost a letter,
-    // 0.1% gained one and lost none, against 17% and 1.7% of the others).
+    // all score as the parent. Then, unless `risking_met`, the points that re-simulate no body
+    // holding a met part nor a touch of one, else only those that do: refining a letter before its
+    // last touch of a letter already in its slot knocked that one out in most children (SIGGRAPH, 3
+    // minutes of a search: 78% of such children lost a letter, 0.1% gained one and lost none,
+    // against 17% and 1.7% of the others).
     std::vector<Branch> worth_branching(const StoredWorld& w, const GoalScore& score,
                                         const std::set<uint32_t>& failing_set, const std::set<Branch>& points,
                                         bool risking_met) const;
