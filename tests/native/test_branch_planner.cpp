@@ -335,5 +335,35 @@ TEST(BranchPlanner, ABreakIsBranchedLateInEachLengthOfItsSpanHoweverOftenOthersF
         << " s after its start (of 1.5 s)";
 }
 
+TEST(BranchPlanner, ABreakIsNeverBranchedWhereNoImpactComesBeforeIt) {
+    // C entered a box it must keep out of at 6 s; it hit the floor every 0.25 s until 5 s, and
+    // again from 7 s. A branch between 5 and 6 s perturbs C only after the break, so its children
+    // all break as their parent did (the staircase's figure, branched 0.03 s before its arm went
+    // out, made 8 children no different from it, 5 times over).
+    ThreeBoxes s;
+    s.world.contacts.clear();
+    for (double t = 0.25; t <= 5.0; t += 0.25) s.world.contacts.push_back({t, 3, 0, 1.0});
+    for (double t = 7.0; t < 9.5; t += 0.25) s.world.contacts.push_back({t, 3, 0, 1.0});
+    QueryBox keep_out;
+    keep_out.bodies = {3};
+    keep_out.negative = true;
+    s.parts.push_back(keep_out);
+    s.score.met = {1, 1, 1, 0};
+    s.score.met_time_s = {8.0, 8.0, 8.0, 0};
+    s.score.misses = {{3, 0.5, 6.0, 0.0, {3}}};
+    s.score.first_unmet = 3;
+    s.score.violation_time_s = 6.0;
+    s.score.failure_time_s = 6.0;
+    s.score.failing_bodies = {3};
+    BranchPlanner planner(s.scene, s.parts, 7);
+    size_t chosen = 0;
+    Branch b;
+    while (planner.choose(0, s.world, s.score, b)) {
+        ASSERT_LT(++chosen, 50u);
+        EXPECT_LE(seconds(b), 5.0) << "no impact of C between this branch and the break";
+    }
+    EXPECT_GT(chosen, 10u);
+}
+
 }  // namespace
 }  // namespace mwb
