@@ -9,6 +9,7 @@
 #include <limits>
 #include <set>
 #include <utility>
+#include <vector>
 
 #include "SceneFixtures.h"
 #include "seek/BranchPlanner.h"
@@ -285,17 +286,12 @@ TEST(BranchPlanner, ABodyAtRestIsBranchedWhileWhatItIsJointedToStillMoves) {
     }
 }
 
-TEST(BranchPlanner, ABreakIsBranchedLateInEachLengthOfItsSpanHoweverOftenOthersFailed) {
-    // C entered a box it must keep out of (a negative part) at 6 s, after every positive part was
-    // met; it hits the floor every 0.25 s before. Every refinement fails. A failure in one length
-    // of the span says nothing of how late to branch in another: a length first tried after
-    // failures elsewhere is branched late in it, not where those failures pushed it (on the
-    // staircase, a figure that stepped out of the footprint 39.6 s into 40 was branched in the
-    // last length only at its start, 10 s before, after 12 failures earlier; branched by hand at
-    // 37.5 s, 5 of 16 children kept in).
+// Every positive part met, then C entered a box it must keep out of (a fourth, negative part)
+// at 6 s; C hits the floor at `impacts`.
+ThreeBoxes broken_at_six(const std::vector<double>& impacts) {
     ThreeBoxes s;
     s.world.contacts.clear();
-    for (double t = 0.25; t < 9.5; t += 0.25) s.world.contacts.push_back({t, 3, 0, 1.0});
+    for (double t : impacts) s.world.contacts.push_back({t, 3, 0, 1.0});
     QueryBox keep_out;
     keep_out.bodies = {3};
     keep_out.negative = true;
@@ -309,6 +305,19 @@ TEST(BranchPlanner, ABreakIsBranchedLateInEachLengthOfItsSpanHoweverOftenOthersF
     s.score.violation_time_s = 6.0;
     s.score.failure_time_s = 6.0;
     s.score.failing_bodies = {3};
+    return s;
+}
+
+TEST(BranchPlanner, ABreakIsBranchedLateInEachLengthOfItsSpanHoweverOftenOthersFailed) {
+    // C broke its keep-out box at 6 s; it hits the floor every 0.25 s. Every refinement fails. A failure in one length
+    // of the span says nothing of how late to branch in another: a length first tried after
+    // failures elsewhere is branched late in it, not where those failures pushed it (on the
+    // staircase, a figure that stepped out of the footprint 39.6 s into 40 was branched in the
+    // last length only at its start, 10 s before, after 12 failures earlier; branched by hand at
+    // 37.5 s, 5 of 16 children kept in).
+    std::vector<double> impacts;
+    for (double t = 0.25; t < 9.5; t += 0.25) impacts.push_back(t);
+    const ThreeBoxes s = broken_at_six(impacts);
     // Over many searches (seeds), where in a length its first point lies, for lengths first tried
     // after 3 or more failures (which would move a try 7 points, more than a length holds, back).
     double offsets = 0;
@@ -336,25 +345,14 @@ TEST(BranchPlanner, ABreakIsBranchedLateInEachLengthOfItsSpanHoweverOftenOthersF
 }
 
 TEST(BranchPlanner, ABreakIsNeverBranchedWhereNoImpactComesBeforeIt) {
-    // C entered a box it must keep out of at 6 s; it hit the floor every 0.25 s until 5 s, and
-    // again from 7 s. A branch between 5 and 6 s perturbs C only after the break, so its children
+    // C broke its keep-out box at 6 s; it hit the floor every 0.25 s until 5 s, and again from
+    // 7 s. A branch between 5 and 6 s perturbs C only after the break, so its children
     // all break as their parent did (the staircase's figure, branched 0.03 s before its arm went
     // out, made 8 children no different from it, 5 times over).
-    ThreeBoxes s;
-    s.world.contacts.clear();
-    for (double t = 0.25; t <= 5.0; t += 0.25) s.world.contacts.push_back({t, 3, 0, 1.0});
-    for (double t = 7.0; t < 9.5; t += 0.25) s.world.contacts.push_back({t, 3, 0, 1.0});
-    QueryBox keep_out;
-    keep_out.bodies = {3};
-    keep_out.negative = true;
-    s.parts.push_back(keep_out);
-    s.score.met = {1, 1, 1, 0};
-    s.score.met_time_s = {8.0, 8.0, 8.0, 0};
-    s.score.misses = {{3, 0.5, 6.0, 0.0, {3}}};
-    s.score.first_unmet = 3;
-    s.score.violation_time_s = 6.0;
-    s.score.failure_time_s = 6.0;
-    s.score.failing_bodies = {3};
+    std::vector<double> impacts;
+    for (double t = 0.25; t <= 5.0; t += 0.25) impacts.push_back(t);
+    for (double t = 7.0; t < 9.5; t += 0.25) impacts.push_back(t);
+    const ThreeBoxes s = broken_at_six(impacts);
     BranchPlanner planner(s.scene, s.parts, 7);
     size_t chosen = 0;
     Branch b;
