@@ -12,18 +12,32 @@ size_t world_bytes(const WorldResult& w) {
 
 }  // namespace
 
+bool LineageCache::wanted(const WorldResult& world, size_t& bytes) const {
+    if (world.status != WorldStatus::Ok || entries_.count(world.world_index)) return false;
+    bytes = world_bytes(world);
+    return bytes <= max_bytes_;
+}
+
 void LineageCache::keep(const WorldResult& world) {
-    if (world.status != WorldStatus::Ok || entries_.count(world.world_index)) return;
-    const size_t bytes = world_bytes(world);
-    if (bytes > max_bytes_) return;
+    size_t bytes = 0;
+    if (wanted(world, bytes)) insert(std::make_shared<const WorldResult>(world), bytes);
+}
+
+void LineageCache::keep(WorldResult&& world) {
+    size_t bytes = 0;
+    if (wanted(world, bytes)) insert(std::make_shared<const WorldResult>(std::move(world)), bytes);
+}
+
+void LineageCache::insert(std::shared_ptr<const WorldResult> world, size_t bytes) {
     while (bytes_ + bytes > max_bytes_ && !uses_.empty()) {
         const auto oldest = entries_.find(uses_.back());
         bytes_ -= oldest->second.bytes;
         entries_.erase(oldest);
         uses_.pop_back();
     }
-    uses_.push_front(world.world_index);
-    entries_[world.world_index] = {std::make_shared<const WorldResult>(world), bytes, uses_.begin()};
+    const uint64_t index = world->world_index;
+    uses_.push_front(index);
+    entries_[index] = {std::move(world), bytes, uses_.begin()};
     bytes_ += bytes;
 }
 

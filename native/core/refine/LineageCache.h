@@ -18,6 +18,8 @@ public:
 
     /// Keeps a copy of `world` (an exact world of this run, as the simulator made it).
     void keep(const WorldResult& world);
+    /// Keeps `world` itself, without a copy.
+    void keep(WorldResult&& world);
     /// The start of the exact lineage with root `root_world` and refinements `lineage`, as
     /// simulate_lineage would return it, as far as its worlds are kept (empty: not the root).
     std::vector<WorldResult> kept_start(uint64_t root_world, const std::vector<RefineStep>& lineage);
@@ -31,6 +33,9 @@ private:
         std::list<uint64_t>::iterator use;
     };
     std::shared_ptr<const WorldResult> find(uint64_t world_index);
+    // Whether `world` is one to keep and not kept yet; its size, which must fit, in `bytes`.
+    bool wanted(const WorldResult& world, size_t& bytes) const;
+    void insert(std::shared_ptr<const WorldResult> world, size_t bytes);
 
     size_t max_bytes_, bytes_ = 0;
     std::unordered_map<uint64_t, Entry> entries_;
