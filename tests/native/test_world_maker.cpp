@@ -52,6 +52,23 @@ TEST_F(TwiceRefined, OnlyTheUnbrokenStartOfALineageIsTakenFromTheCache) {
     EXPECT_TRUE(LineageCache(size_t{1} << 30).kept_start(0, lineage).empty());
 }
 
+TEST_F(TwiceRefined, AWorldKeptWithoutACopyComesBackTheSameAndCountsTheRoomItHolds) {
+    // A worker keeps each world it made by moving it in: it must come back bit for bit, and the
+    // memory bound must count what the world holds, its vectors' spare room too.
+    WorldResult moved = full[0];
+    const size_t used = moved.positions_m.size() * sizeof(double);
+    moved.positions_m.reserve(moved.positions_m.size() * 4);
+    LineageCache roomy(size_t{1} << 30);
+    roomy.keep(WorldResult(full[0]));
+    ASSERT_EQ(roomy.kept_start(0, {}).size(), 1u);
+    EXPECT_EQ(hash_world(roomy.kept_start(0, {}).front()), hash_world(full[0]));
+    // A bound the used positions fit three times over, but not the room reserved for four times.
+    LineageCache tight(roomy.bytes() + 2 * used);
+    tight.keep(std::move(moved));
+    EXPECT_TRUE(tight.kept_start(0, {}).empty()) << "the spare room counts against the bound";
+    EXPECT_EQ(tight.bytes(), 0u);
+}
+
 TEST_F(TwiceRefined, AParentThatDoesNotComeOutAsStoredIsRefusedNamingBothBuilds) {
     RefinementJob job = job_for_the_last();
     job.parent_contacts += 1;  // what another build's world would have stored

@@ -3,10 +3,12 @@
 namespace mwb {
 namespace {
 
+// The memory a kept world holds, spare room included: a world kept without a copy keeps the room
+// its vectors grew into.
 size_t world_bytes(const WorldResult& w) {
-    size_t bytes = sizeof(WorldResult) + (w.positions_m.size() + w.orientations.size()) * sizeof(double) +
-                   w.contacts.size() * sizeof(ContactEvent);
-    for (const Checkpoint& c : w.checkpoints) bytes += sizeof(Checkpoint) + c.bodies.size() * sizeof(BodyState);
+    size_t bytes = sizeof(WorldResult) + (w.positions_m.capacity() + w.orientations.capacity()) * sizeof(double) +
+                   w.contacts.capacity() * sizeof(ContactEvent) + w.checkpoints.capacity() * sizeof(Checkpoint);
+    for (const Checkpoint& c : w.checkpoints) bytes += c.bodies.capacity() * sizeof(BodyState);
     return bytes;
 }
 
