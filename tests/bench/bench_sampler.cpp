@@ -43,15 +43,21 @@ double bare_ode_seconds(const CompiledScene& compiled, uint64_t world_index, uin
     PortableRandom initial(derive_stream_seed(derive_world_seed(1, world_index), kInitialStateStream));
     OdeWorld world(compiled, draw_initial_states(compiled.scene(), initial));
     BareContext context{world.world(), world.contact_group()};
+    // A plain ODE program keeps its geoms in a space; the engine's are in none.
+    const dSpaceID space = dSweepAndPruneSpaceCreate(nullptr, dSAP_AXES_XYZ);
+    dSpaceSetCleanup(space, 0);
+    for (dGeomID geom : world.geoms()) dSpaceAdd(space, geom);
     uint64_t ode_random = 0;
     OdeRandomScope scope(ode_random);
     const auto start = std::chrono::steady_clock::now();
     for (uint64_t s = 0; s < steps; ++s) {
-        dSpaceCollide(world.space(), &context, bare_near_callback);
+        dSpaceCollide(space, &context, bare_near_callback);
         dWorldQuickStep(world.world(), compiled.physics_dt_s());
         dJointGroupEmpty(world.contact_group());
     }
-    return seconds_since(start);
+    const double seconds = seconds_since(start);
+    dSpaceDestroy(space);
+    return seconds;
 }
 
 double sample_seconds(const CompiledScene& compiled, uint64_t count, int threads) {

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <mutex>
-#include <utility>
 
 #include "sim/BodySleep.h"
 
@@ -23,17 +22,6 @@ int collide(dGeomID a, dGeomID b, bool either_is_mesh, int max, dContactGeom* ou
     return dCollide(a, b, max, out, sizeof(dContactGeom));
 }
 
-intptr_t geom_index(dGeomID geom) { return reinterpret_cast<intptr_t>(dGeomGetData(geom)); }
-
-void collect_pair(void* data, dGeomID a, dGeomID b) {
-    intptr_t ia = geom_index(a), ib = geom_index(b);
-    if (ia > ib) {
-        std::swap(ia, ib);
-        std::swap(a, b);
-    }
-    static_cast<std::vector<CandidatePair>*>(data)->push_back({ia, ib, a, b});
-}
-
 }  // namespace
 
 ContactGenerator::ContactGenerator(OdeWorld& world, const BodyActivity& activity) : world_(world), activity_(activity) {}
@@ -44,8 +32,10 @@ bool ContactGenerator::stepped(int32_t body) const {
 }
 
 void ContactGenerator::find_candidate_pairs() {
+    broad_phase_.find_pairs(world_.geoms(), pairs_);
+    const std::vector<dGeomID>& geoms = world_.geoms();
     candidates_.clear();
-    dSpaceCollide(world_.space(), &candidates_, collect_pair);
+    for (const GeomPair& p : pairs_) candidates_.push_back({p.first, p.second, geoms[p.first], geoms[p.second]});
     std::sort(candidates_.begin(), candidates_.end());
     deepest_.assign(world_.bodies().size(), DeepestContact{});
 }

@@ -1,13 +1,14 @@
 #pragma once
 // The contacts of one world step. They are generated in a fixed order (broad-phase pairs sorted
-// by geom index, not the space's internal order, which depends on history) so that a restart
-// from a checkpoint replays exactly.
+// by geom index, whatever order the broad phase found them in) so that a restart from a
+// checkpoint replays exactly.
 #include <cstdint>
 #include <vector>
 
 #include <ode/ode.h>
 
 #include "sim/BodyActivity.h"
+#include "sim/BroadPhase.h"
 #include "sim/OdeWorld.h"
 
 namespace mwb {
@@ -62,6 +63,8 @@ private:
 
     OdeWorld& world_;
     const BodyActivity& activity_;
+    BroadPhase broad_phase_;
+    std::vector<GeomPair> pairs_;
     std::vector<CandidatePair> candidates_;
     const BodySleep* sleep_ = nullptr;
     std::vector<DeepestContact> deepest_;  ///< per body

@@ -67,9 +67,6 @@ OdeWorld::OdeWorld(const CompiledScene& compiled, const std::vector<BodyInitialS
     dWorldSetAutoDisableFlag(world_, 0);
     dWorldSetContactSurfaceLayer(world_, 0.001);
     dWorldSetContactMaxCorrectingVel(world_, 10.0);
-    // Sweep and prune handles the large static boxes (floors, walls) that a hash space tests
-    // against every geom; pairs are sorted afterwards, so its order does not matter.
-    space_ = dSweepAndPruneSpaceCreate(nullptr, dSAP_AXES_XYZ);
     contact_group_ = dJointGroupCreate(0);
     create_bodies();
     create_constraints();
@@ -78,7 +75,6 @@ OdeWorld::OdeWorld(const CompiledScene& compiled, const std::vector<BodyInitialS
 OdeWorld::~OdeWorld() {
     dJointGroupDestroy(contact_group_);
     for (dGeomID geom : geoms_) dGeomDestroy(geom);
-    dSpaceDestroy(space_);
     for (dTriMeshDataID data : mesh_data_) dGeomTriMeshDataDestroy(data);
     dWorldDestroy(world_);
     dThreadingFreeImplementation(threading_);
@@ -125,13 +121,13 @@ void OdeWorld::create_geoms(size_t body_index, const std::vector<CollisionPart>&
         dGeomID geom = nullptr;
         switch (part.kind) {
             case PartKind::Box:
-                geom = dCreateBox(space_, 2 * part.half_extents_m[0], 2 * part.half_extents_m[1], 2 * part.half_extents_m[2]);
+                geom = dCreateBox(nullptr, 2 * part.half_extents_m[0], 2 * part.half_extents_m[1], 2 * part.half_extents_m[2]);
                 break;
-            case PartKind::Sphere: geom = dCreateSphere(space_, part.radius_m); break;
-            case PartKind::Capsule: geom = dCreateCapsule(space_, part.radius_m, part.length_m); break;
-            case PartKind::Cylinder: geom = dCreateCylinder(space_, part.radius_m, part.length_m); break;
+            case PartKind::Sphere: geom = dCreateSphere(nullptr, part.radius_m); break;
+            case PartKind::Capsule: geom = dCreateCapsule(nullptr, part.radius_m, part.length_m); break;
+            case PartKind::Cylinder: geom = dCreateCylinder(nullptr, part.radius_m, part.length_m); break;
             case PartKind::Convex:
-                geom = dCreateConvex(space_, part.convex_planes.data(), part.convex_plane_count,
+                geom = dCreateConvex(nullptr, part.convex_planes.data(), part.convex_plane_count,
                                      part.convex_points.data(), part.convex_point_count, part.convex_polygons.data());
                 break;
             case PartKind::TriangleMesh: {
@@ -142,7 +138,7 @@ void OdeWorld::create_geoms(size_t body_index, const std::vector<CollisionPart>&
                                             static_cast<int>(part.mesh_indices.size()), 3 * sizeof(uint32_t));
                 // Convex-vs-mesh collisions (libccd) need the face angles.
                 dGeomTriMeshDataPreprocess2(data, 1u << dTRIDATAPREPROCESS_BUILD_FACE_ANGLES, nullptr);
-                geom = dCreateTriMesh(space_, data, nullptr, nullptr, nullptr);
+                geom = dCreateTriMesh(nullptr, data, nullptr, nullptr, nullptr);
                 break;
             }
         }

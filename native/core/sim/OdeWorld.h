@@ -48,13 +48,15 @@ public:
     OdeWorld& operator=(const OdeWorld&) = delete;
 
     dWorldID world() const { return world_; }
-    dSpaceID space() const { return space_; }
     dJointGroupID contact_group() const { return contact_group_; }
     /// ODE body per scene body; null for static passive bodies.
     const std::vector<dBodyID>& bodies() const { return bodies_; }
     /// Per scene constraint; a constraint this world does not have holds no joints.
     const std::vector<JointGroup>& joint_groups() const { return joint_groups_; }
     const std::vector<GeomOwner>& geom_owners() const { return geom_owners_; }
+    /// Every geom, in no space (ContactGenerator finds their pairs), ghosts' last; geom i belongs
+    /// to geom_owners()[i].
+    const std::vector<dGeomID>& geoms() const { return geoms_; }
     /// True if the scene's constraints ask that bodies a and b never collide.
     bool collision_disabled(int32_t a, int32_t b) const;
     const std::vector<BodyInitialState>& initial_states() const { return initial_; }
@@ -92,7 +94,6 @@ private:
     std::vector<uint8_t> present_;
     dThreadingImplementationID threading_ = nullptr;
     dWorldID world_ = nullptr;
-    dSpaceID space_ = nullptr;
     dJointGroupID contact_group_ = nullptr;
     std::vector<dBodyID> bodies_;
     std::vector<dBodyID> ghost_bodies_;

@@ -1,0 +1,108 @@
+#include "sim/BroadPhase.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace mwb {
+namespace {
+
+// ODE leaves a geom with a zero dimension out of every space's pairs.
+bool zero_sized(dGeomID geom) {
+    switch (dGeomGetClass(geom)) {
+        case dBoxClass: {
+            dVector3 lengths;
+            dGeomBoxGetLengths(geom, lengths);
+            return lengths[0] == 0 || lengths[1] == 0 || lengths[2] == 0;
+        }
+        case dSphereClass: return dGeomSphereGetRadius(geom) == 0;
+        case dCapsuleClass: {
+            dReal radius, length;
+            dGeomCapsuleGetParams(geom, &radius, &length);
+            return radius == 0;
+        }
+        case dCylinderClass: {
+            dReal radius, length;
+            dGeomCylinderGetParams(geom, &radius, &length);
+            return radius == 0 || length == 0;
+        }
+        default: return false;
+    }
+}
+
+bool usable(dGeomID geom) { return dGeomIsEnabled(geom) && !zero_sized(geom); }
+
+}  // namespace
+
+bool BroadPhase::starts_before(const Extent& a, const Extent& b) {
+    return a.x_min != b.x_min ? a.x_min < b.x_min : a.geom < b.geom;
+}
+
+bool BroadPhase::finite(const Extent& e) {
+    return std::isfinite(e.x_min) && std::isfinite(e.x_max) && std::isfinite(e.y_min) && std::isfinite(e.y_max) &&
+           std::isfinite(e.z_min) && std::isfinite(e.z_max);
+}
+
+BroadPhase::Extent BroadPhase::extent_of(dGeomID geom, uint32_t index) {
+    dReal box[6];
+    dGeomGetAABB(geom, box);
+    return {static_cast<float>(box[0]), static_cast<float>(box[1]), box[2], box[3], box[4], box[5], index};
+}
+
+void BroadPhase::add_new_geoms(const std::vector<dGeomID>& geoms) {
+    bool fixed_added = false;
+    for (size_t i = facts_.size(); i < geoms.size(); ++i) {
+        const dGeomID geom = geoms[i];
+        const auto index = static_cast<uint32_t>(i);
+        facts_.push_back({dGeomGetBody(geom), dGeomGetCategoryBits(geom), dGeomGetCollideBits(geom)});
+        if (facts_.back().body) {
+            moving_.push_back(index);
+        } else if (usable(geom) && finite(extent_of(geom, index))) {
+            fixed_.push_back(extent_of(geom, index));
+            fixed_added = true;
+        }
+    }
+    if (fixed_added) std::sort(fixed_.begin(), fixed_.end(), starts_before);
+}
+
+void BroadPhase::add_if_pair(const Extent& a, const Extent& b, std::vector<GeomPair>& out) const {
+    // x overlaps already (the sweep); y and z inclusively, as ODE's sweep tests them.
+    if (!(a.y_max >= b.y_min && b.y_max >= a.y_min && a.z_max >= b.z_min && b.z_max >= a.z_min)) return;
+    const GeomFacts& fa = facts_[a.geom];
+    const GeomFacts& fb = facts_[b.geom];
+    if (fa.body && fa.body == fb.body) return;
+    if (!((fa.category & fb.collide) || (fb.category & fa.collide))) return;
+    out.push_back({std::min(a.geom, b.geom), std::max(a.geom, b.geom)});
+}
+
+void BroadPhase::find_pairs(const std::vector<dGeomID>& geoms, std::vector<GeomPair>& out) {
+    out.clear();
+    add_new_geoms(geoms);
+    moving_now_.clear();
+    for (uint32_t i : moving_) {
+        if (!usable(geoms[i])) continue;
+        // A body gone non-finite is rejected after this step (ImpactResponse); until then it
+        // touches nothing, and it must not reach the sort.
+        const Extent e = extent_of(geoms[i], i);
+        if (finite(e)) moving_now_.push_back(e);
+    }
+    std::sort(moving_now_.begin(), moving_now_.end(), starts_before);
+    // Every pair whose x ranges overlap (closed intervals) is found once: from the one of the two
+    // that starts first in x, scanning those that start within its range; a fixed geom and a
+    // moving one starting at the same x are found from the moving one.
+    for (size_t i = 0; i < moving_now_.size(); ++i) {
+        const Extent& a = moving_now_[i];
+        for (size_t j = i + 1; j < moving_now_.size() && moving_now_[j].x_min <= a.x_max; ++j)
+            add_if_pair(a, moving_now_[j], out);
+        auto f = std::lower_bound(fixed_.begin(), fixed_.end(), a.x_min,
+                                  [](const Extent& e, float x) { return e.x_min < x; });
+        for (; f != fixed_.end() && f->x_min <= a.x_max; ++f) add_if_pair(a, *f, out);
+    }
+    size_t first_after = 0;  // the first moving geom starting after the fixed one, in x
+    for (const Extent& f : fixed_) {
+        while (first_after < moving_now_.size() && !(moving_now_[first_after].x_min > f.x_min)) ++first_after;
+        for (size_t j = first_after; j < moving_now_.size() && moving_now_[j].x_min <= f.x_max; ++j)
+            add_if_pair(f, moving_now_[j], out);
+    }
+}
+
+}  // namespace mwb
