@@ -115,8 +115,9 @@ TEST(BroadPhase, FindsWhatOdesSweepFindsLessPairsOfFixedGeoms) {
         g.add(dCreateSphere(nullptr, uniform(0.2, 1.5)));
         dGeomSetPosition(g.list.back(), uniform(-6, 6), uniform(-6, 6), uniform(-1, 3));
     }
-    dGeomDisable(g.add(dCreateSphere(nullptr, 1)));
-    dGeomSetBody(g.list.back(), body_at(0, 0, 0));
+    const dGeomID switched = g.add(dCreateSphere(nullptr, 1));  // disabled and enabled in turn, as a ghost is
+    dGeomDisable(switched);
+    dGeomSetBody(switched, body_at(0, 0, 0));
     dGeomSetBody(g.add(dCreateBox(nullptr, 1, 0, 1)), body_at(1, 1, 0.5));
 
     BroadPhase broad_phase;
@@ -136,6 +137,10 @@ TEST(BroadPhase, FindsWhatOdesSweepFindsLessPairsOfFixedGeoms) {
         dBodySetPosition(bodies[1], along, 4.5, 0.5);
         for (size_t b = 2; b < bodies.size(); ++b)
             dBodySetPosition(bodies[b], uniform(-6, 6), uniform(-6, 6), uniform(-1, 3));
+        if (step % 4 == 2) {
+            if (dGeomIsEnabled(switched)) dGeomDisable(switched);
+            else dGeomEnable(switched);
+        }
         if (step % 10 == 5) {
             g.add(dCreateBox(nullptr, 1, 1, 1));
             dGeomSetPosition(g.list.back(), uniform(-6, 6), uniform(-6, 6), uniform(-1, 3));

@@ -29,13 +29,7 @@ bool zero_sized(dGeomID geom) {
     }
 }
 
-bool usable(dGeomID geom) { return dGeomIsEnabled(geom) && !zero_sized(geom); }
-
 }  // namespace
-
-bool BroadPhase::starts_before(const Extent& a, const Extent& b) {
-    return a.x_min != b.x_min ? a.x_min < b.x_min : a.geom < b.geom;
-}
 
 bool BroadPhase::finite(const Extent& e) {
     return std::isfinite(e.x_min) && std::isfinite(e.x_max) && std::isfinite(e.y_min) && std::isfinite(e.y_max) &&
@@ -45,18 +39,20 @@ bool BroadPhase::finite(const Extent& e) {
 BroadPhase::Extent BroadPhase::extent_of(dGeomID geom, uint32_t index) {
     dReal box[6];
     dGeomGetAABB(geom, box);
-    return {static_cast<float>(box[0]), static_cast<float>(box[1]), box[2], box[3], box[4], box[5], index};
+    return {static_cast<float>(box[0]), static_cast<float>(box[1]), box[2], box[3], box[4], box[5], index,
+            dGeomGetBody(geom), dGeomGetCategoryBits(geom), dGeomGetCollideBits(geom)};
 }
 
 void BroadPhase::add_new_geoms(const std::vector<dGeomID>& geoms) {
     bool fixed_added = false;
-    for (size_t i = facts_.size(); i < geoms.size(); ++i) {
-        const dGeomID geom = geoms[i];
-        const auto index = static_cast<uint32_t>(i);
-        facts_.push_back({dGeomGetBody(geom), dGeomGetCategoryBits(geom), dGeomGetCollideBits(geom)});
-        if (facts_.back().body) {
+    for (; geoms_seen_ < geoms.size(); ++geoms_seen_) {
+        const dGeomID geom = geoms[geoms_seen_];
+        const auto index = static_cast<uint32_t>(geoms_seen_);
+        // A geom's size never changes here, so a zero-sized one is left out for good.
+        if (zero_sized(geom)) continue;
+        if (dGeomGetBody(geom)) {
             moving_.push_back(index);
-        } else if (usable(geom) && finite(extent_of(geom, index))) {
+        } else if (dGeomIsEnabled(geom) && finite(extent_of(geom, index))) {
             fixed_.push_back(extent_of(geom, index));
             fixed_added = true;
         }
@@ -64,13 +60,25 @@ void BroadPhase::add_new_geoms(const std::vector<dGeomID>& geoms) {
     if (fixed_added) std::sort(fixed_.begin(), fixed_.end(), starts_before);
 }
 
-void BroadPhase::add_if_pair(const Extent& a, const Extent& b, std::vector<GeomPair>& out) const {
+void BroadPhase::sort_moving() {
+    // From one step to the next the moving geoms keep nearly the same order in x, so an insertion
+    // sort from last step's order costs about one pass. The order is total (ties by geom), so any
+    // sort gives the same.
+    for (size_t i = 1; i < moving_now_.size(); ++i) {
+        const Extent e = moving_now_[i];
+        size_t j = i;
+        for (; j > 0 && starts_before(e, moving_now_[j - 1]); --j) moving_now_[j] = moving_now_[j - 1];
+        moving_now_[j] = e;
+    }
+    size_t k = 0;
+    for (const Extent& e : moving_now_) moving_[k++] = e.geom;
+}
+
+void BroadPhase::add_if_pair(const Extent& a, const Extent& b, std::vector<GeomPair>& out) {
     // x overlaps already (the sweep); y and z inclusively, as ODE's sweep tests them.
     if (!(a.y_max >= b.y_min && b.y_max >= a.y_min && a.z_max >= b.z_min && b.z_max >= a.z_min)) return;
-    const GeomFacts& fa = facts_[a.geom];
-    const GeomFacts& fb = facts_[b.geom];
-    if (fa.body && fa.body == fb.body) return;
-    if (!((fa.category & fb.collide) || (fb.category & fa.collide))) return;
+    if (a.body && a.body == b.body) return;
+    if (!((a.category & b.collide) || (b.category & a.collide))) return;
     out.push_back({std::min(a.geom, b.geom), std::max(a.geom, b.geom)});
 }
 
@@ -78,14 +86,21 @@ void BroadPhase::find_pairs(const std::vector<dGeomID>& geoms, std::vector<GeomP
     out.clear();
     add_new_geoms(geoms);
     moving_now_.clear();
+    left_out_.clear();
     for (uint32_t i : moving_) {
-        if (!usable(geoms[i])) continue;
         // A body gone non-finite is rejected after this step (ImpactResponse); until then it
         // touches nothing, and it must not reach the sort.
-        const Extent e = extent_of(geoms[i], i);
-        if (finite(e)) moving_now_.push_back(e);
+        if (dGeomIsEnabled(geoms[i])) {
+            const Extent e = extent_of(geoms[i], i);
+            if (finite(e)) {
+                moving_now_.push_back(e);
+                continue;
+            }
+        }
+        left_out_.push_back(i);
     }
-    std::sort(moving_now_.begin(), moving_now_.end(), starts_before);
+    sort_moving();
+    std::copy(left_out_.begin(), left_out_.end(), moving_.begin() + static_cast<std::ptrdiff_t>(moving_now_.size()));
     // Every pair whose x ranges overlap (closed intervals) is found once: from the one of the two
     // that starts first in x, scanning those that start within its range; a fixed geom and a
     // moving one starting at the same x are found from the moving one.

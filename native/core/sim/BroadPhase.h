@@ -33,22 +33,24 @@ private:
         float x_min, x_max;  ///< single precision, as ODE's sweep sorts them
         double y_min, y_max, z_min, z_max;
         uint32_t geom;
-    };
-    struct GeomFacts {
         dBodyID body;
         unsigned long category, collide;
     };
 
-    static bool starts_before(const Extent& a, const Extent& b);
+    static bool starts_before(const Extent& a, const Extent& b) {
+        return a.x_min != b.x_min ? a.x_min < b.x_min : a.geom < b.geom;
+    }
     static bool finite(const Extent& e);
-    void add_new_geoms(const std::vector<dGeomID>& geoms);
     static Extent extent_of(dGeomID geom, uint32_t index);
-    void add_if_pair(const Extent& a, const Extent& b, std::vector<GeomPair>& out) const;
+    void add_new_geoms(const std::vector<dGeomID>& geoms);
+    void sort_moving();
+    static void add_if_pair(const Extent& a, const Extent& b, std::vector<GeomPair>& out);
 
-    std::vector<GeomFacts> facts_;     ///< per geom seen so far
-    std::vector<uint32_t> moving_;     ///< geoms with a body
+    size_t geoms_seen_ = 0;
+    std::vector<uint32_t> moving_;     ///< geoms with a body (none zero-sized), by x_min last step
     std::vector<Extent> fixed_;        ///< enabled fixed geoms, by x_min
     std::vector<Extent> moving_now_;   ///< this step's enabled moving geoms, by x_min
+    std::vector<uint32_t> left_out_;   ///< this step's disabled (or non-finite) moving geoms
 };
 
 }  // namespace mwb
