@@ -58,6 +58,7 @@ private:
     const std::vector<QueryBox>& boxes_;
     std::vector<size_t> order_;
     std::vector<uint32_t> oriented_bodies_;  ///< the bodies orientation parts name
+    std::vector<uint32_t> goal_bodies_;      ///< the bodies any part names, sorted: the only ones indexed
     PathIndex index_;
     int threads_;
     std::unordered_map<uint64_t, size_t> position_;  ///< world index -> position in reader_.worlds()

@@ -1,5 +1,6 @@
 #include "seek/WorldIndexing.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "common/QuantizedPolyline.h"
@@ -7,7 +8,8 @@
 
 namespace mwb {
 
-IndexedWorldInput indexed_world_input(const LibraryReader& reader, const StoredWorld& w) {
+IndexedWorldInput indexed_world_input(const LibraryReader& reader, const StoredWorld& w,
+                                      const std::vector<uint32_t>* only_bodies) {
     if (w.polyline_points == 0) throw std::invalid_argument("open the library with polyline_hz > 0 to index it");
     IndexedWorldInput in;
     in.world_index = w.world_index;
@@ -17,7 +19,9 @@ IndexedWorldInput indexed_world_input(const LibraryReader& reader, const StoredW
     in.hold_until_s = static_cast<double>(reader.run_last_frame()) / w.record_hz;
     const size_t per_path = quantized::block_words(w.polyline_points);
     for (size_t t = 0; t < w.tracks.size(); ++t) {
-        if (!w.tracks[t].present) {
+        const bool wanted =
+            !only_bodies || std::binary_search(only_bodies->begin(), only_bodies->end(), static_cast<uint32_t>(t));
+        if (!w.tracks[t].present || !wanted) {
             in.borrowed.emplace_back();
             in.final_orientations.push_back({1, 0, 0, 0});
             continue;
