@@ -42,6 +42,8 @@ if [ "$(id -u)" -ne 0 ]; then
     echo "$(basename "$zip"): reproducible; extension validate skipped: the Debian 13 chroot needs root"
     exit 0
 fi
+# Run on its own, before any test that makes the chroot, its folder may not exist yet.
+mkdir -p "$(dirname "$TRIXIE")"
 exec 8> "$TRIXIE.lock"
 flock 8
 ensure_chroot "$TRIXIE" trixie "blender python3-numpy" || fail "the Debian 13 chroot at $TRIXIE"
