@@ -30,14 +30,16 @@ bool sphere_outside(const Frustum& f, const std::array<float, 4>& s, double radi
 
 PathIndex::PathIndex(std::vector<double> body_radii_m) : body_radii_m_(std::move(body_radii_m)) {}
 
-std::vector<uint32_t> posed_bodies(const std::vector<QueryBox>& boxes) {
+std::vector<uint32_t> named_bodies(const std::vector<QueryBox>& boxes, bool pose_parts_only) {
     std::vector<uint32_t> bodies;
     for (const QueryBox& box : boxes)
-        if (box.orientation) bodies.insert(bodies.end(), box.bodies.begin(), box.bodies.end());
+        if (box.orientation || !pose_parts_only) bodies.insert(bodies.end(), box.bodies.begin(), box.bodies.end());
     std::sort(bodies.begin(), bodies.end());
     bodies.erase(std::unique(bodies.begin(), bodies.end()), bodies.end());
     return bodies;
 }
+
+std::vector<uint32_t> posed_bodies(const std::vector<QueryBox>& boxes) { return named_bodies(boxes, true); }
 
 void PathIndex::set_rotation_source(std::shared_ptr<const RotationSource> source) {
     std::lock_guard<std::mutex> lock(mutex_);

@@ -189,6 +189,8 @@ private:
     mutable std::unordered_map<std::string, std::unordered_map<uint64_t, uint8_t>> pose_answers_;  ///< guarded by memo_mutex_
 };
 
+/// The bodies the parts of `boxes` name (only its pose parts: `pose_parts_only`), ascending.
+std::vector<uint32_t> named_bodies(const std::vector<QueryBox>& boxes, bool pose_parts_only = false);
 /// The bodies the pose parts of `boxes` name, ascending.
 std::vector<uint32_t> posed_bodies(const std::vector<QueryBox>& boxes);
 

@@ -21,13 +21,6 @@ std::vector<double> body_radii(const Scene& scene) {
     return radii;
 }
 
-std::vector<uint32_t> named_bodies(const std::vector<QueryBox>& boxes) {
-    std::vector<uint32_t> bodies;
-    for (const QueryBox& box : boxes) bodies.insert(bodies.end(), box.bodies.begin(), box.bodies.end());
-    std::sort(bodies.begin(), bodies.end());
-    bodies.erase(std::unique(bodies.begin(), bodies.end()), bodies.end());
-    return bodies;
-}
 
 }  // namespace
 

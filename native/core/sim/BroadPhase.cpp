@@ -52,8 +52,11 @@ void BroadPhase::add_new_geoms(const std::vector<dGeomID>& geoms) {
         if (zero_sized(geom)) continue;
         if (dGeomGetBody(geom)) {
             moving_.push_back(index);
-        } else if (dGeomIsEnabled(geom) && finite(extent_of(geom, index))) {
-            fixed_.push_back(extent_of(geom, index));
+            continue;
+        }
+        const Extent e = extent_of(geom, index);
+        if (dGeomIsEnabled(geom) && finite(e)) {
+            fixed_.push_back(e);
             fixed_added = true;
         }
     }
