@@ -169,10 +169,11 @@ protected:
         return path(name);
     }
 
-    // Box0 and Box5 end in the quarter x > 0, y > 0 of the floor (negative: Box2 stays out of it).
-    SeekRequest request(int threads) const {
+    // Box0 and Box5 end in the quarter x > 0, y > 0 of the floor (negative: Box2 stays out of it);
+    // `in_order`: Box5 gets there after Box0 (the beam then weighs each family's pace too).
+    SeekRequest request(int threads, bool in_order = false) const {
         SeekRequest r;
-        r.boxes = goal_from_json(goal_json({box_json(R"(["Box0"])"), box_json(R"(["Box5"])"),
+        r.boxes = goal_from_json(goal_json({box_json(R"(["Box0"])"), box_json(R"(["Box5"])", false, in_order ? "0" : "null"),
                                             box_json(R"(["Box2"])", true)}),
                                  scene_);
         r.want = 1000;  // never met: the budget ends it
@@ -197,28 +198,32 @@ protected:
 };
 
 TEST_F(Seek, TheSameLibraryGoalBudgetAndSeedGiveTheSameWorldsOnOneAndTwoThreads) {
-    const std::string one = copy_of_start("one.mwb"), two = copy_of_start("two.mwb");
-    const SeekOutcome a = seek_goal(one, request(1));
-    const SeekOutcome b = seek_goal(two, request(2));
-    EXPECT_EQ(a.worlds_made, 40u);
-    EXPECT_GT(a.refinements, 0u);
-    EXPECT_EQ(a.worlds_made, b.worlds_made);
-    EXPECT_EQ(a.best_world, b.best_world);
-    EXPECT_EQ(a.found, b.found);
-    EXPECT_DOUBLE_EQ(a.best_value, b.best_value);
-    const auto worlds_one = motion(one), worlds_two = motion(two);
-    EXPECT_EQ(worlds_one.size(), 6u + 40u - LibraryReader(one).rejections().size());
-    ASSERT_EQ(worlds_one.size(), worlds_two.size());
-    for (const auto& [index, positions] : worlds_one) {
-        ASSERT_TRUE(worlds_two.count(index)) << "world " << index;
-        EXPECT_EQ(positions, worlds_two.at(index)) << "world " << index;
+    for (const bool in_order : {false, true}) {
+        SCOPED_TRACE(in_order ? "Box5 after Box0" : "no order");
+        const std::string one = copy_of_start(in_order ? "one_ordered.mwb" : "one.mwb"),
+                          two = copy_of_start(in_order ? "two_ordered.mwb" : "two.mwb");
+        const SeekOutcome a = seek_goal(one, request(1, in_order));
+        const SeekOutcome b = seek_goal(two, request(2, in_order));
+        EXPECT_EQ(a.worlds_made, 40u);
+        EXPECT_GT(a.refinements, 0u);
+        EXPECT_EQ(a.worlds_made, b.worlds_made);
+        EXPECT_EQ(a.best_world, b.best_world);
+        EXPECT_EQ(a.found, b.found);
+        EXPECT_DOUBLE_EQ(a.best_value, b.best_value);
+        const auto worlds_one = motion(one), worlds_two = motion(two);
+        EXPECT_EQ(worlds_one.size(), 6u + 40u - LibraryReader(one).rejections().size());
+        ASSERT_EQ(worlds_one.size(), worlds_two.size());
+        for (const auto& [index, positions] : worlds_one) {
+            ASSERT_TRUE(worlds_two.count(index)) << "world " << index;
+            EXPECT_EQ(positions, worlds_two.at(index)) << "world " << index;
+        }
+        // Every world it made is an ordinary world of the library: refined ones with their lineage,
+        // the rest sampled (this goal's parts are common, see the next test).
+        const LibraryReader reader(one);
+        size_t refined = 0;
+        for (const StoredWorld& w : reader.worlds()) refined += !w.lineage.empty();
+        EXPECT_GT(refined, 0u);
     }
-    // Every world it made is an ordinary world of the library: refined ones with their lineage,
-    // the rest sampled (this goal's parts are common, see the next test).
-    const LibraryReader reader(one);
-    size_t refined = 0;
-    for (const StoredWorld& w : reader.worlds()) refined += !w.lineage.empty();
-    EXPECT_GT(refined, 0u);
 }
 
 TEST_F(Seek, WhereFreshWorldsOftenMeetEveryPartItSamplesAfreshOnceARefinementReproducedTheLibrary) {

@@ -25,17 +25,30 @@ constexpr double kPolylineHz = 30;
 // A refinement helps when a child meets another box or comes this much closer to the next one;
 // smaller gains would keep the search polishing one world instead of backing up.
 constexpr double kMeaningfulGain = 0.02;
-// Beam worlds from one sampled world's family: one keeps the search from spending everything on
-// the descendants of a single lucky start (on the quick-start goal, from the same 8 worlds and
-// 6 seeds, the most it took fell from 1,000 worlds to 424, and the staircase got as far).
-constexpr uint32_t kBeamPerFamily = 1;
-// A family more parts behind the leading one than this gives its own beam place to the leading
+// The beam: 4 worlds (SeekRequest::beam_width), at most one from each sampled world's family, which
+// keeps the search from spending everything on the descendants of a single lucky start (on the
+// quick-start goal, from the same 8 worlds and 6 seeds, the most it took fell from 1,000 worlds to
+// 424, and the staircase got as far).
+//
+// A family more than 3 parts behind the leading one gives its own beam place to the leading
 // families' next best worlds. On the staircase (21 parts; base seeds 0 and 1, 10 minutes each) the
 // two families 10 parts behind made 458 worlds for 2 parts between them, while the leader, 20 of 21
 // parts met 4 minutes in, made 177 after it; from base seed 0 two families 5 and 6 parts behind
 // made 554 worlds for 3 parts. Families within reach keep their places, so the beam still holds
 // starts as good as the leader's, but a start half the goal behind no longer slows the best one.
-constexpr double kBeamReachParts = 3;
+//
+// Unless it is well ahead of the leader's pace: 2 ordered parts ahead when it met its last takes
+// the beam's last place. From the staircase's base seed 0 the leading families met 7, 6 and 5 of
+// the 12 steps by 38 s of 40, while a family sampled at world 1,349 had met 3 by 4.9 s (the leader
+// 1); it waited behind them, first refined at world 2,640, and met the whole goal 330 worlds later.
+BeamRule beam_rule(const SeekRequest& request) {
+    BeamRule rule;
+    rule.width = request.beam_width;
+    rule.per_family = 1;
+    rule.reach_parts = 3;
+    rule.pace_lead_parts = 2;
+    return rule;
+}
 // The worlds a family whose best world broke a negative part before meeting any positive one may
 // make without meeting more parts before it gives its place up to a fresh batch: eight refinements.
 // Such a start is mended only by branching before the break and re-running all that came after,
@@ -80,7 +93,7 @@ public:
                 report();
                 continue;
             }
-            std::vector<uint64_t> beam = worlds_->choose_beam(request_.beam_width, kBeamPerFamily, kBeamReachParts);
+            std::vector<uint64_t> beam = worlds_->choose_beam(beam_rule(request_));
             if (beam.empty()) {
                 // Every good world's branch points are spent: start over from new sampled worlds.
                 sample_batch();

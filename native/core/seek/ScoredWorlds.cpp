@@ -9,7 +9,6 @@
 
 #include "geometry/ShapeBounds.h"
 #include "library/WorldDecoding.h"
-#include "seek/BeamChoice.h"
 #include "seek/WorldIndexing.h"
 
 namespace mwb {
@@ -21,6 +20,16 @@ std::vector<double> body_radii(const Scene& scene) {
     return radii;
 }
 
+std::vector<size_t> ordered_parts(const std::vector<QueryBox>& boxes) {
+    std::vector<uint8_t> ordered(boxes.size(), 0);
+    for (size_t k = 0; k < boxes.size(); ++k)
+        if (boxes[k].after >= 0) ordered[k] = ordered[static_cast<size_t>(boxes[k].after)] = 1;
+    std::vector<size_t> parts;
+    for (size_t k = 0; k < boxes.size(); ++k)
+        if (ordered[k]) parts.push_back(k);
+    return parts;
+}
+
 
 }  // namespace
 
@@ -30,6 +39,7 @@ ScoredWorlds::ScoredWorlds(LibraryReader& reader, const Scene& scene, const std:
       order_(goal_order(boxes)),
       oriented_bodies_(posed_bodies(boxes)),
       goal_bodies_(named_bodies(boxes)),
+      ordered_parts_(ordered_parts(boxes)),
       index_(body_radii(scene)),
       threads_(threads),
       sampled_meeting_(boxes.size(), 0) {}
@@ -67,6 +77,12 @@ void ScoredWorlds::take_new_worlds() {
             for (size_t k = 0; k < score.met.size() && k < sampled_meeting_.size(); ++k) sampled_meeting_[k] += score.met[k];
         }
         ranking_.insert(std::make_pair(-score.value(), w));
+        if (!ordered_parts_.empty()) {
+            std::vector<double>& times = ordered_met_s_[w];
+            for (size_t k : ordered_parts_)
+                if (score.met[k] && score.met_time_s[k] <= score.violation_time_s) times.push_back(score.met_time_s[k]);
+            std::sort(times.begin(), times.end());
+        }
         scores_.emplace(w, std::move(score));
     }
 }
@@ -110,12 +126,15 @@ uint64_t ScoredWorlds::family_of(uint64_t world) const {
     return w.lineage.empty() ? w.world_index : w.root_world;
 }
 
-std::vector<uint64_t> ScoredWorlds::choose_beam(uint32_t width, uint32_t per_family, double reach_parts) const {
+std::vector<uint64_t> ScoredWorlds::choose_beam(const BeamRule& rule) const {
     std::vector<BeamCandidate> open;
     for (const auto& [negative_value, world] : ranking_)
-        if (!found_.count(world) && !spent_.count(world) && !set_aside_.count(family_of(world)))
-            open.push_back({world, family_of(world), -negative_value});
-    return mwb::choose_beam(open, width, per_family, reach_parts);
+        if (!found_.count(world) && !spent_.count(world) && !set_aside_.count(family_of(world))) {
+            const auto ordered = ordered_met_s_.find(world);
+            open.push_back({world, family_of(world), -negative_value,
+                            ordered == ordered_met_s_.end() ? nullptr : &ordered->second});
+        }
+    return mwb::choose_beam(open, rule);
 }
 
 }  // namespace mwb

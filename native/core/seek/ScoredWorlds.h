@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "library/LibraryReader.h"
+#include "seek/BeamChoice.h"
 #include "query/GoalScore.h"
 #include "query/PathIndex.h"
 #include "scene/Scene.h"
@@ -48,7 +49,7 @@ public:
 
     /// The beam (see BeamChoice.h) among the worlds not yet met or spent nor of a family set
     /// aside, best first (ties: lower index).
-    std::vector<uint64_t> choose_beam(uint32_t width, uint32_t per_family, double reach_parts) const;
+    std::vector<uint64_t> choose_beam(const BeamRule& rule) const;
 
 private:
     // The scores of `worlds` (indexed already), in their order; on threads_ threads.
@@ -59,10 +60,14 @@ private:
     std::vector<size_t> order_;
     std::vector<uint32_t> oriented_bodies_;  ///< the bodies orientation parts name
     std::vector<uint32_t> goal_bodies_;      ///< the bodies any part names, sorted: the only ones indexed
+    std::vector<size_t> ordered_parts_;      ///< the parts met after another, or another after them
     PathIndex index_;
     int threads_;
     std::unordered_map<uint64_t, size_t> position_;  ///< world index -> position in reader_.worlds()
     std::unordered_map<uint64_t, GoalScore> scores_;
+    /// Per world, when it met the ordered parts before it broke a negative one, ascending (the
+    /// beam's pace); none for a goal without order.
+    std::unordered_map<uint64_t, std::vector<double>> ordered_met_s_;
     std::set<std::pair<double, uint64_t>> ranking_;  ///< (-value, world index): best first
     std::set<uint64_t> found_, spent_, set_aside_;
     std::set<std::array<long long, 3>> seen_values_;  ///< GoalScore::search_key of the worlds kept
