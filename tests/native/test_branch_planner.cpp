@@ -121,6 +121,67 @@ TEST(BranchPlanner, ATouchPassedOnToAMetBodyPutsItAtRiskToo) {
     }
 }
 
+TEST(BranchPlanner, APosesPointsRiskingManyMetBodiesComeAfterThoseRiskingFew) {
+    // A, B and C hold their parts; D misses its pose. D touches A at 2 s, B at 3 s and C at 4 s,
+    // and hits the floor at 1, 2.5, 3.5, 4.5 and 5 s. A point before 2 s puts all three at risk.
+    Scene scene;
+    scene.bodies = {fixtures::ground(), fixtures::box("A", {-1, 0, 0.2}), fixtures::box("B", {0, 0, 0.2}),
+                    fixtures::box("C", {1, 0, 0.2}), fixtures::box("D", {2, 0, 0.2})};
+    std::vector<QueryBox> parts;
+    for (uint32_t body : {1u, 2u, 3u, 4u}) {
+        QueryBox part;
+        part.bodies = {body};
+        part.window = {9.0, 10.0};
+        parts.push_back(part);
+    }
+    StoredWorld world;
+    world.record_hz = kHz;
+    world.frame_count = 1201;
+    const std::vector<double> touches = {2.0, 3.0, 4.0};
+    for (uint32_t k = 0; k < 3; ++k) world.contacts.push_back({touches[k], 4, static_cast<int32_t>(k + 1), 1.0});
+    for (double t : {1.0, 2.5, 3.5, 4.5, 5.0}) world.contacts.push_back({t, 4, 0, 1.0});
+    std::sort(world.contacts.begin(), world.contacts.end(),
+              [](const ContactEvent& x, const ContactEvent& y) { return x.time_s < y.time_s; });
+    GoalScore score;
+    score.boxes_met = 3;
+    score.met = {1, 1, 1, 0};
+    score.met_time_s = {9.0, 9.0, 9.0, 0};
+    score.misses = {{3, 0.5, 6.0, 0.0, {4}}};
+    score.first_unmet = 3;
+    score.closeness = 0.5;
+    score.failure_time_s = 6.0;
+    score.failing_bodies = {4};
+    const auto risked = [&](const Branch& b) {
+        return std::count_if(touches.begin(), touches.end(), [&](double t) { return t >= seconds(b) - 1e-9; });
+    };
+    // The order in which a planner offers its points, as the number of met bodies each risks.
+    const auto offered = [&](const std::vector<QueryBox>& goal) {
+        BranchPlanner planner(scene, goal, 7);
+        std::vector<long> order;
+        Branch b;
+        while (planner.choose(0, world, score, b)) {
+            order.push_back(static_cast<long>(risked(b)));
+            if (order.size() > 100) break;
+        }
+        return order;
+    };
+    // As a box: every point keeping A, B and C first, then the rest in any order.
+    const std::vector<long> as_box = offered(parts);
+    // As a pose: those keeping them, then those risking one or two, then those risking all three.
+    parts[3].orientation = OrientationTest{};
+    const std::vector<long> as_pose = offered(parts);
+    ASSERT_EQ(as_pose.size(), as_box.size()) << "a pose is offered the same points, in another order";
+    const auto pass = [](long r) { return r == 0 ? 0 : r <= 2 ? 1 : 2; };
+    for (size_t k = 1; k < as_pose.size(); ++k) EXPECT_LE(pass(as_pose[k - 1]), pass(as_pose[k])) << "point " << k;
+    EXPECT_EQ(std::count(as_pose.begin(), as_pose.end(), 0), std::count(as_box.begin(), as_box.end(), 0));
+    EXPECT_GT(std::count(as_pose.begin(), as_pose.end(), 3), 0);
+    EXPECT_GT(std::count_if(as_pose.begin(), as_pose.end(), [](long r) { return r == 1 || r == 2; }), 0);
+    // A box mixes the points risking three with those risking fewer.
+    bool mixed = false;
+    for (size_t k = 1; k < as_box.size(); ++k) mixed |= as_box[k - 1] == 3 && (as_box[k] == 1 || as_box[k] == 2);
+    EXPECT_TRUE(mixed);
+}
+
 TEST(BranchPlanner, APartWhoseChildrenFailGivesWayToTheNextOne) {
     const ThreeBoxes s;
     BranchPlanner planner(s.scene, s.parts, 7);

@@ -1,6 +1,7 @@
 #include "seek/BranchPlanner.h"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 
 #include "common/PortableMath.h"
@@ -41,7 +42,7 @@ bool BranchPlanner::simulated(uint32_t body) const {
 }
 
 std::vector<Branch> BranchPlanner::branch_points(const StoredWorld& w, const GoalScore& score,
-                                                 const GoalScore::Miss& miss, bool risking_met,
+                                                 const GoalScore::Miss& miss, int risk_pass,
                                                  std::vector<size_t>& lateness) const {
     const QueryBox& box = boxes_[static_cast<size_t>(miss.part)];
     const double hz = w.record_hz;
@@ -118,7 +119,15 @@ std::vector<Branch> BranchPlanner::branch_points(const StoredWorld& w, const Goa
     for (double before : kBeforeWindow) add(opens - before, failing);
     if (points.size() < 4)
         for (double t = lower; t < upper; t += kGridSpacing) add(t, failing);
-    std::vector<Branch> worth = worth_branching(w, score, failing_set, points, risking_met);
+    // Which bodies holding a met part a point may put at risk, by pass: none; then any for a box,
+    // at most kFewRisked for a pose; then, for a pose, more.
+    size_t fewest = 0, most = 0;
+    if (risk_pass == 1) fewest = 1, most = box.orientation ? kFewRisked : std::numeric_limits<size_t>::max();
+    if (risk_pass == 2) {
+        if (!box.orientation) return {};
+        fewest = kFewRisked + 1, most = std::numeric_limits<size_t>::max();
+    }
+    std::vector<Branch> worth = worth_branching(w, score, failing_set, points, fewest, most);
     lateness.clear();
     for (const Branch& point : worth) {
         const double fraction = (static_cast<double>(point.frame) / hz - lower) / (upper - lower);
@@ -129,7 +138,8 @@ std::vector<Branch> BranchPlanner::branch_points(const StoredWorld& w, const Goa
 
 std::vector<Branch> BranchPlanner::worth_branching(const StoredWorld& w, const GoalScore& score,
                                                    const std::set<uint32_t>& failing_set,
-                                                   const std::set<Branch>& points, bool risking_met) const {
+                                                   const std::set<Branch>& points, size_t fewest_risked,
+                                                   size_t most_risked) const {
     // The bodies holding a part already met (the failing bodies aside: they are to change).
     std::set<uint32_t> kept;
     for (size_t k = 0; k < boxes_.size(); ++k) {
@@ -161,18 +171,16 @@ std::vector<Branch> BranchPlanner::worth_branching(const StoredWorld& w, const G
             continue;
         // What the refined bodies touch from then on, what those touch after, and so on: the
         // bodies a child may set moving anew, its own touches or its ghosts'.
-        bool keeps = std::none_of(reached.begin(), reached.end(), [&](uint32_t b) { return kept.count(b) > 0; });
+        size_t risked = static_cast<size_t>(std::count_if(reached.begin(), reached.end(), [&](uint32_t b) { return kept.count(b) > 0; }));
         for (const ContactEvent* c : touches) {
-            if (!keeps) break;
+            if (risked > most_risked) break;
             if (c->time_s < branch_time) continue;
             const auto a = static_cast<uint32_t>(c->body), o = static_cast<uint32_t>(c->other);
             if (reached.count(a) == reached.count(o)) continue;
-            for (uint32_t b : jointed_with({reached.count(a) ? o : a})) {
-                reached.insert(b);
-                if (kept.count(b)) keeps = false;
-            }
+            for (uint32_t b : jointed_with({reached.count(a) ? o : a}))
+                if (reached.insert(b).second && kept.count(b)) ++risked;
         }
-        if (risking_met ? !keeps : keeps) worth.push_back(point);
+        if (risked >= fewest_risked && risked <= most_risked) worth.push_back(point);
     }
     return worth;
 }
@@ -206,9 +214,9 @@ bool BranchPlanner::choose(uint64_t world, const StoredWorld& record, const Goal
     // Points that keep every met part first, for every part; only when none is left, those that
     // re-simulate a met part's body: where the bodies all touch (the quick start's toys tumbling
     // down one chute) no point keeps them, and a search that refused the rest would stall.
-    for (bool risking_met : {false, true})
+    for (int risk_pass : {0, 1, 2})
         for (const GoalScore::Miss* miss : parts)
-            if (choose_for(world, record, score, *miss, risking_met, chosen)) {
+            if (choose_for(world, record, score, *miss, risk_pass, chosen)) {
                 refined_part_[world] = miss->part;
                 return true;
             }
@@ -221,9 +229,9 @@ uint32_t BranchPlanner::failures_of(uint64_t world, int32_t part) const {
 }
 
 bool BranchPlanner::choose_for(uint64_t world, const StoredWorld& record, const GoalScore& score,
-                               const GoalScore::Miss& miss, bool risking_met, Branch& chosen) {
+                               const GoalScore::Miss& miss, int risk_pass, Branch& chosen) {
     std::vector<size_t> lateness;
-    const std::vector<Branch> points = branch_points(record, score, miss, risking_met, lateness);
+    const std::vector<Branch> points = branch_points(record, score, miss, risk_pass, lateness);
     std::vector<size_t> bins_open;
     for (size_t k = 0; k < points.size(); ++k)
         if (!tried_.count({world, points[k]})) bins_open.push_back(lateness[k]);
