@@ -1,8 +1,8 @@
 #include "seek/BranchPlanner.h"
 
 #include <algorithm>
-#include <limits>
 #include <cmath>
+#include <limits>
 
 #include "common/PortableMath.h"
 
@@ -42,7 +42,7 @@ bool BranchPlanner::simulated(uint32_t body) const {
 }
 
 std::vector<Branch> BranchPlanner::branch_points(const StoredWorld& w, const GoalScore& score,
-                                                 const GoalScore::Miss& miss, int risk_pass,
+                                                 const GoalScore::Miss& miss, RiskPass pass,
                                                  std::vector<size_t>& lateness) const {
     const QueryBox& box = boxes_[static_cast<size_t>(miss.part)];
     const double hz = w.record_hz;
@@ -122,8 +122,8 @@ std::vector<Branch> BranchPlanner::branch_points(const StoredWorld& w, const Goa
     // Which bodies holding a met part a point may put at risk, by pass: none; then any for a box,
     // at most kFewRisked for a pose; then, for a pose, more.
     size_t fewest = 0, most = 0;
-    if (risk_pass == 1) fewest = 1, most = box.orientation ? kFewRisked : std::numeric_limits<size_t>::max();
-    if (risk_pass == 2) {
+    if (pass == RiskPass::RisksFew) fewest = 1, most = box.orientation ? kFewRisked : std::numeric_limits<size_t>::max();
+    if (pass == RiskPass::RisksMany) {
         if (!box.orientation) return {};
         fewest = kFewRisked + 1, most = std::numeric_limits<size_t>::max();
     }
@@ -214,9 +214,9 @@ bool BranchPlanner::choose(uint64_t world, const StoredWorld& record, const Goal
     // Points that keep every met part first, for every part; only when none is left, those that
     // re-simulate a met part's body: where the bodies all touch (the quick start's toys tumbling
     // down one chute) no point keeps them, and a search that refused the rest would stall.
-    for (int risk_pass : {0, 1, 2})
+    for (RiskPass pass : {RiskPass::KeepsEveryMetPart, RiskPass::RisksFew, RiskPass::RisksMany})
         for (const GoalScore::Miss* miss : parts)
-            if (choose_for(world, record, score, *miss, risk_pass, chosen)) {
+            if (choose_for(world, record, score, *miss, pass, chosen)) {
                 refined_part_[world] = miss->part;
                 return true;
             }
@@ -229,9 +229,9 @@ uint32_t BranchPlanner::failures_of(uint64_t world, int32_t part) const {
 }
 
 bool BranchPlanner::choose_for(uint64_t world, const StoredWorld& record, const GoalScore& score,
-                               const GoalScore::Miss& miss, int risk_pass, Branch& chosen) {
+                               const GoalScore::Miss& miss, RiskPass pass, Branch& chosen) {
     std::vector<size_t> lateness;
-    const std::vector<Branch> points = branch_points(record, score, miss, risk_pass, lateness);
+    const std::vector<Branch> points = branch_points(record, score, miss, pass, lateness);
     std::vector<size_t> bins_open;
     for (size_t k = 0; k < points.size(); ++k)
         if (!tried_.count({world, points[k]})) bins_open.push_back(lateness[k]);

@@ -60,29 +60,31 @@ private:
         uint32_t gains = 0;        ///< of them, those with a child meeting more parts than its parent
     };
 
+    // Which points a pass of choose() offers: those that keep every met part; then those that put
+    // some at risk (a pose's only up to kFewRisked bodies holding them); then a pose's that risk more.
+    enum class RiskPass { KeepsEveryMetPart, RisksFew, RisksMany };
     // The points of one part it misses: where `miss` says it went wrong, by the bodies it blames;
-    // those that keep every met part, or (`risking_met`) only those that do not. `lateness`: each
-    // point's bin.
+    // those `pass` offers. `lateness`: each point's bin.
     std::vector<Branch> branch_points(const StoredWorld& w, const GoalScore& score, const GoalScore::Miss& miss,
-                                      int risk_pass, std::vector<size_t>& lateness) const;
+                                      RiskPass pass, std::vector<size_t>& lateness) const;
     // A lateness bin among those with an open point: each drawn from what its refinements paid so
     // far (Thompson sampling), the best draw wins.
     size_t choose_lateness(const std::vector<size_t>& bins_open);
     // A draw from Beta(a, b), integer a and b >= 1, from this planner's own stream.
     double beta_draw(uint32_t a, uint32_t b);
     bool choose_for(uint64_t world, const StoredWorld& record, const GoalScore& score, const GoalScore::Miss& miss,
-                    int risk_pass, Branch& chosen);
+                    RiskPass pass, Branch& chosen);
     uint32_t failures_of(uint64_t world, int32_t part) const;
     // The failures that set how far back in the chosen length to branch: for a positive part all
     // of the part's, for a negative part only those refined in that length (see choose_for).
     uint32_t back_off_failures(uint64_t world, int32_t part, size_t bin) const;
     // The points worth refining at. Never one after which none of its bodies has an impact before
     // the world broke a negative part, if it did: with nothing perturbed that counts, its children
-    // all score as the parent. Then, unless `risking_met`, the points that re-simulate no body
-    // holding a met part nor a touch of one, else only those that do: refining a letter before its
-    // last touch of a letter already in its slot knocked that one out in most children (SIGGRAPH, 3
-    // minutes of a search: 78% of such children lost a letter, 0.1% gained one and lost none,
-    // against 17% and 1.7% of the others).
+    // all score as the parent. Then those that put from `fewest_risked` to `most_risked` bodies
+    // holding a met part at risk (re-simulate them, or pass a touch on to them): refining a letter
+    // before its last touch of a letter already in its slot knocked that one out in most children
+    // (SIGGRAPH, 3 minutes of a search: 78% of such children lost a letter, 0.1% gained one and
+    // lost none, against 17% and 1.7% of the others).
     std::vector<Branch> worth_branching(const StoredWorld& w, const GoalScore& score,
                                         const std::set<uint32_t>& failing_set, const std::set<Branch>& points,
                                         size_t fewest_risked, size_t most_risked) const;
