@@ -41,12 +41,10 @@ constexpr double kMeaningfulGain = 0.02;
 // the beam's last place. From the staircase's base seed 0 the leading families met 7, 6 and 5 of
 // the 12 steps by 38 s of 40, while a family sampled at world 1,349 had met 3 by 4.9 s (the leader
 // 1); it waited behind them, first refined at world 2,640, and met the whole goal 330 worlds later.
+// These are BeamRule's own values; only the width is the request's.
 BeamRule beam_rule(const SeekRequest& request) {
     BeamRule rule;
     rule.width = request.beam_width;
-    rule.per_family = 1;
-    rule.reach_parts = 3;
-    rule.pace_lead_parts = 2;
     return rule;
 }
 // The worlds a family whose best world broke a negative part before meeting any positive one may

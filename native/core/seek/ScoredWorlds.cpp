@@ -30,7 +30,6 @@ std::vector<size_t> ordered_parts(const std::vector<QueryBox>& boxes) {
     return parts;
 }
 
-
 }  // namespace
 
 ScoredWorlds::ScoredWorlds(LibraryReader& reader, const Scene& scene, const std::vector<QueryBox>& boxes, int threads)
