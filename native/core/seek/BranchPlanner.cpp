@@ -45,6 +45,8 @@ std::vector<Branch> BranchPlanner::branch_points(const StoredWorld& w, const Goa
                                                  const GoalScore::Miss& miss, RiskPass pass,
                                                  std::vector<size_t>& lateness) const {
     const QueryBox& box = boxes_[static_cast<size_t>(miss.part)];
+    // A box offers every point risking met parts in its second pass, so none is left for a third.
+    if (pass == RiskPass::RisksMany && !box.orientation) return {};
     const double hz = w.record_hz;
     const double world_end = (w.first_frame + w.frame_count - 1) / hz;
     // Keep what the boxes before it in the order achieved, all but the last: branch after the
@@ -123,10 +125,7 @@ std::vector<Branch> BranchPlanner::branch_points(const StoredWorld& w, const Goa
     // at most kFewRisked for a pose; then, for a pose, more.
     size_t fewest = 0, most = 0;
     if (pass == RiskPass::RisksFew) fewest = 1, most = box.orientation ? kFewRisked : std::numeric_limits<size_t>::max();
-    if (pass == RiskPass::RisksMany) {
-        if (!box.orientation) return {};
-        fewest = kFewRisked + 1, most = std::numeric_limits<size_t>::max();
-    }
+    if (pass == RiskPass::RisksMany) fewest = kFewRisked + 1, most = std::numeric_limits<size_t>::max();
     std::vector<Branch> worth = worth_branching(w, score, failing_set, points, fewest, most);
     lateness.clear();
     for (const Branch& point : worth) {
